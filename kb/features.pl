@@ -1,0 +1,64 @@
+/** Boundary features b1-b5 of the remaining domain.
+
+One labelling for every feature (the paper's figures label each figure
+anew). The front is walked with the remaining domain on its left; the edge
+under consideration is N1N2 and the nodes around it read
+
+    N7 -> N4 -> N1 -> N2 -> N5
+
+Theta_k is the interior angle of the remaining domain at N_k (degrees).
+The host measures them and asks with a context term
+
+    ctx(Theta7, Theta4, Theta1, Theta2, Theta5, L5, L6)
+
+where L5 = |N4N1| / |N1N2| and L6 = |N2N5| / |N1N2| (lengths relative to
+the edge, so l1 = 1). Every edge is also read mirrored (N1 and N2
+swapped, the front walked backwards), so that a feature anchored at the
+right end of an edge is found as well.
+
+```
+?- edge_feature(ctx(90, 180, 90, 180, 90, 1, 1), F).
+   F = b4 ;  F = b5 ;  F = b2.
+?- feature(b1, ctx(180, 180, 180, 180, 180, 1, 1)).
+   true.
+```
+*/
+
+:- dynamic(feature/2).
+
+%% feature(?Feature, +Ctx)
+%
+% True iff the edge of context Ctx shows boundary feature Feature.
+
+% b1: both ends open (theta1, theta2 >= U_c), Fig. 8(a).
+feature(b1, ctx(_, _, T1, T2, _, _, _)) :-
+    bound(upper_corner, U),
+    T1 >= U, T2 >= U.
+% b2: a corner at N1 between two open nodes, Fig. 8(b). The scan reads
+% theta2, theta4 >= 180; see bound(b2_side, _).
+feature(b2, ctx(_, T4, T1, T2, _, _, _)) :-
+    bound(upper_corner, U), bound(b2_side, S),
+    T1 =< U, T2 >= S, T4 >= S.
+% b3: both ends are corners, Fig. 8(c).
+feature(b3, ctx(_, _, T1, T2, _, _, _)) :-
+    bound(upper_corner, U),
+    T1 =< U, T2 =< U.
+% b4: corners at N7, N1, N5 with open nodes N4, N2 between them: a
+% corner block two elements wide each way, Fig. 9(a).
+feature(b4, ctx(T7, T4, T1, T2, T5, _, _)) :-
+    bound(upper_corner, U),
+    T1 =< U, open_(U, T2), T5 =< U, open_(U, T4), T7 =< U.
+% b5: corners at N1 and N5 with one open node N2 between, Fig. 9(b).
+feature(b5, ctx(_, _, T1, T2, T5, _, _)) :-
+    bound(upper_corner, U),
+    T1 =< U, open_(U, T2), T5 =< U.
+
+open_(U, T) :- T >= U, T =< 240.
+
+%% edge_feature(+Ctx, -Feature)
+%
+% True iff Feature is a feature of the edge, in the order of the strategy.
+edge_feature(Ctx, F) :-
+    strategy(S),
+    member(F, S),
+    feature(F, Ctx).

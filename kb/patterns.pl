@@ -1,0 +1,55 @@
+/** Final patterns: closing a loop of four or six segments (Fig. 16).
+
+The host asks with the interior angles of the loop's nodes, A1..A6 in
+loop order, and tries the answers in order until one gives valid
+elements:
+
+  quad                a four-segment loop is the last element itself
+  pattern1(K)         new node at (X2+X4+X6)/3 of the nodes K+1, K+3, K+5
+                      (Eq. 5), linked to them: three elements
+  pattern2(K)         new node at (3X3+3X5+X2+X6)/8 (Eq. 6), nodes counted
+                      from K, linked to the nodes K+1, K+3, K+5
+  pattern3(K)         link the nodes K+2 and K+5 (Fig. 16(c)): two elements
+
+(K rotates the paper's numbering round the loop, 0-based.)
+
+```
+?- loop_patterns([90, 90, 180, 90, 90, 180], Ps).
+   Ps = [pattern3(0), ...].
+```
+*/
+
+:- dynamic(final_pattern/3).
+
+%% final_pattern(+Angles, ?K, -Pattern)
+%
+% Pattern closes a six-segment loop with interior Angles, rotated by K.
+
+% Pattern 3: the two straight nodes of a 2 x 1 block face each other.
+final_pattern(As, K, pattern3(K)) :-
+    rotation_(K), rotated_(As, K, [_, _, A3, _, _, A6]),
+    A3 >= 150, A6 >= 150.
+% Pattern 2: one open node faces an edge (a trapezoid): the new node
+% leans towards N3 and N5.
+final_pattern(As, K, pattern2(K)) :-
+    rotation_(K), rotated_(As, K, [_, _, A3, A4, A5, _]),
+    A4 >= 150, A3 < 150, A5 < 150.
+% Pattern 1: three corners alternate with three open nodes.
+final_pattern(As, K, pattern1(K)) :-
+    member(K, [0, 1]), rotated_(As, K, [A1, A2, A3, A4, A5, A6]),
+    A2 + A4 + A6 >= A1 + A3 + A5.
+% Anything else: try every pattern in turn, the host keeps the first
+% that gives valid elements.
+final_pattern(_, K, pattern3(K)) :- rotation_(K).
+final_pattern(_, K, pattern1(K)) :- member(K, [0, 1]).
+
+rotation_(K) :- member(K, [0, 1, 2, 3, 4, 5]).
+
+rotated_(As, K, Rs) :-
+    length(Front, K), append(Front, Back, As), append(Back, Front, Rs).
+
+%% loop_patterns(+Angles, -Patterns)
+%
+% Every pattern the rules allow for the loop, best first.
+loop_patterns(As, Ps) :-
+    findall(P, final_pattern(As, _, P), Ps).

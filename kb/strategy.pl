@@ -1,0 +1,46 @@
+/** Settings of the rule base: the recursion strategy and the bounds.
+
+These are the predicates a --kb file replaces rather than extends: a file
+that defines strategy/1 or bound/2 supersedes all built-in clauses of it.
+
+```
+?- strategy(S).
+   S = [b4,b5,b3,b2,b1].
+?- bound(upper_corner, U).
+   U = 135.
+```
+*/
+
+:- dynamic(strategy/1).
+:- dynamic(bound/2).
+
+%% strategy(-Features)
+%
+% The order in which features are looked for on the front (the paper's
+% recursion strategy, found by graph tests): the first feature of the
+% list present anywhere on the front is acted on first.
+strategy([b4, b5, b3, b2, b1]).
+
+%% bound(?Name, ?Value)
+%
+% upper_corner: U_c, the upper bound of an element's inner corner (deg).
+% lower_corner: the lower bound of an inner corner (deg); an element's
+%   outer corners must stay above it too (redesign constraint 1).
+% b2_side: the least angle at N2 and N4 for b2. The scanned paper reads
+%   180 deg; 180 leaves a corner beside a slightly convex arc (175 deg)
+%   with no feature at all, so the default is 160.
+% reflex_split: an angle above this is split into several elements (a1
+%   then takes theta/k with k = round(theta/90) instead of theta/2).
+% near_vertical, near_horizontal: Fig. 10's "small", as fractions of the
+%   element's size.
+% near_node: a new corner closer than this fraction of the element size
+%   to a front node is merged with it (the fronts meet).
+% redesign_rounds: how many redesign rules may fire on one element.
+bound(upper_corner, 135).
+bound(lower_corner, 45).
+bound(b2_side, 160).
+bound(reflex_split, 240).
+bound(near_vertical, 0.45).
+bound(near_horizontal, 0.3).
+bound(near_node, 0.5).
+bound(redesign_rounds, 4).

@@ -1,0 +1,57 @@
+//! The check every mesh passes before it is written: all quads, each
+//! convex with positive area, conforming (no edge in more than two
+//! elements, no hanging boundary), covering the domain's area.
+
+use std::collections::HashMap;
+
+use crate::geometry::orient2d;
+use crate::mesh::Mesh;
+
+/// What is wrong with a mesh.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MeshCheckError {
+    /// No elements at all.
+    #[error("the mesh has no elements")]
+    Empty,
+    /// An element that is inverted or not convex.
+    #[error("element {0} is inverted or not convex")]
+    NotConvex(usize),
+    /// An edge shared by more than two elements.
+    #[error("edge ({0}, {1}) is shared by more than two elements")]
+    NonManifold(u32, u32),
+    /// The elements do not cover the domain.
+    #[error("the elements cover an area of {got:.6}, the domain {want:.6}")]
+    Area {
+        /// Area of the elements.
+        got: f64,
+        /// Area of the discretised domain.
+        want: f64,
+    },
+}
+
+/// Checks a mesh against the area `want` of the discretised domain.
+pub fn check_mesh(mesh: &Mesh, want: f64) -> Result<(), MeshCheckError> {
+    if mesh.quads.is_empty() {
+        return Err(MeshCheckError::Empty);
+    }
+    let mut count: HashMap<(u32, u32), u8> = HashMap::with_capacity(mesh.quads.len() * 2);
+    for (i, q) in mesh.quads.iter().enumerate() {
+        let p = mesh.quad_points(i);
+        if (0..4).any(|k| orient2d(p[k], p[(k + 1) % 4], p[(k + 2) % 4]) <= 0.0) {
+            return Err(MeshCheckError::NotConvex(i));
+        }
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            let c = count.entry((a.min(b), a.max(b))).or_insert(0);
+            *c += 1;
+            if *c > 2 {
+                return Err(MeshCheckError::NonManifold(a, b));
+            }
+        }
+    }
+    let got = mesh.area();
+    if (got - want).abs() > 1e-6 * want.abs().max(1e-300) {
+        return Err(MeshCheckError::Area { got, want });
+    }
+    Ok(())
+}

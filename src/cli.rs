@@ -1,0 +1,44 @@
+//! The command line.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// freemesh: knowledge-based all-quadrilateral meshing of plane domains.
+#[derive(Debug, Parser)]
+#[command(name = "freemesh", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Mesh a domain file (JSON, see domain-format.md).
+    Mesh(MeshArgs),
+}
+
+/// Arguments of `freemesh mesh`.
+#[derive(Debug, clap::Args)]
+pub struct MeshArgs {
+    /// The domain file.
+    pub domain: PathBuf,
+    /// Output file; the format follows the extension (.msh, .vtk, .svg,
+    /// .json). Repeat for several.
+    #[arg(short = 'o', long = "output", required = true)]
+    pub outputs: Vec<PathBuf>,
+    /// Target boundary segment length (replaces the domain's size).
+    #[arg(long)]
+    pub size: Option<f64>,
+    /// Largest interior element edge (replaces the domain's max_size).
+    #[arg(long)]
+    pub max_size: Option<f64>,
+    /// A knowledge-base file consulted after the built-in rules. Repeat
+    /// for several.
+    #[arg(long = "kb")]
+    pub kb: Vec<PathBuf>,
+    /// Write the inference trace as JSON Lines, one object per element.
+    #[arg(long)]
+    pub trace: Option<PathBuf>,
+}

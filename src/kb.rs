@@ -1,0 +1,307 @@
+//! The knowledge base: scryer-prolog embedded as a library, loaded with the
+//! built-in rules of `kb/*.pl` and the user's `--kb` files, and the queries
+//! the mesher asks of it.
+//!
+//! The engine has no API for Rust predicates, so the split is: the KB
+//! answers with action terms whose parameters it computes itself, and the
+//! host executes them (see `design.rs`). Answers to the hot queries depend
+//! only on the text of the query, so they are memoised by that text: the
+//! mesh and the trace are the same as without the cache, and the engine's
+//! per-query memory (it keeps ~2 bytes a query character) stays bounded.
+
+use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, Term};
+use std::collections::{BTreeMap, HashMap};
+use std::fmt::Write as _;
+
+/// The built-in knowledge base, in load order (file name, text).
+pub const BUILTIN_KB: &[(&str, &str)] = &[
+    ("kb/strategy.pl", include_str!("../kb/strategy.pl")),
+    ("kb/geometry.pl", include_str!("../kb/geometry.pl")),
+    ("kb/features.pl", include_str!("../kb/features.pl")),
+    ("kb/design.pl", include_str!("../kb/design.pl")),
+    ("kb/redesign.pl", include_str!("../kb/redesign.pl")),
+    ("kb/patterns.pl", include_str!("../kb/patterns.pl")),
+];
+
+const LOADER: &str = include_str!("kb_loader.pl");
+
+/// Predicates a `--kb` file replaces instead of extending.
+pub const SETTINGS: &[&str] = &["strategy/1", "bound/2"];
+
+/// An error of the knowledge base: loading a file or answering a query.
+#[derive(Debug, thiserror::Error)]
+pub enum KbError {
+    /// A KB file could not be read.
+    #[error("{path}: cannot read: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        message: String,
+    },
+    /// A KB file has a clause the KB refuses (syntax error, unknown action...).
+    #[error("{path}:{line}: {reason}")]
+    Clause {
+        /// The file.
+        path: String,
+        /// Its line (0 when unknown).
+        line: u64,
+        /// What is wrong, in Prolog's words.
+        reason: String,
+    },
+    /// A query raised an exception in a rule.
+    #[error("knowledge base: {query} raised {error}")]
+    Query {
+        /// The predicate asked.
+        query: String,
+        /// The exception term.
+        error: String,
+    },
+    /// A query answered with something the host cannot use.
+    #[error("knowledge base: {query} answered {answer}, which is not {expected}")]
+    Answer {
+        /// The predicate asked.
+        query: String,
+        /// What it answered.
+        answer: String,
+        /// What was expected.
+        expected: String,
+    },
+}
+
+/// One answer's bindings.
+pub type Bindings = BTreeMap<String, Term>;
+
+/// The engine with its rules loaded.
+pub struct KnowledgeBase {
+    machine: Machine,
+    /// The files loaded, in order, for messages and the REPL.
+    pub files: Vec<String>,
+    cache: HashMap<String, Option<Term>>,
+    /// Queries sent to the engine (cache misses) and answered from the cache.
+    pub stats: KbStats,
+}
+
+/// Counters of the engine's use.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct KbStats {
+    /// Queries run by the engine.
+    pub engine_queries: u64,
+    /// Queries answered from the memo.
+    pub cached_queries: u64,
+    /// Time spent in the engine.
+    pub engine_time: std::time::Duration,
+}
+
+/// Renders a term as Prolog text (atoms quoted when needed).
+pub fn term_text(t: &Term) -> String {
+    let mut s = String::new();
+    write_term(&mut s, t);
+    s
+}
+
+fn atom_needs_quotes(a: &str) -> bool {
+    let mut ch = a.chars();
+    match ch.next() {
+        None => true,
+        Some(c) if c.is_ascii_lowercase() => !a.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
+        _ => !matches!(a, "[]" | "!" | ";" | "{}" | "," | "|") && !a.chars().all(|c| "+-*/\\^<>=~:.?@#&$".contains(c)),
+    }
+}
+
+fn write_term(s: &mut String, t: &Term) {
+    match t {
+        Term::Integer(i) => {
+            let _ = write!(s, "{i}");
+        }
+        Term::Rational(r) => {
+            let _ = write!(s, "{r}");
+        }
+        Term::Float(f) => s.push_str(&fmt_float(*f)),
+        Term::Atom(a) => {
+            if atom_needs_quotes(a) {
+                let _ = write!(s, "'{}'", a.replace('\\', "\\\\").replace('\'', "\\'"));
+            } else {
+                s.push_str(a);
+            }
+        }
+        Term::String(st) => {
+            let _ = write!(s, "{st:?}");
+        }
+        Term::List(l) => {
+            s.push('[');
+            for (i, x) in l.iter().enumerate() {
+                if i > 0 {
+                    s.push(',');
+                }
+                write_term(s, x);
+            }
+            s.push(']');
+        }
+        Term::Compound(f, args) => {
+            if args.len() == 2 && matches!(f.as_str(), "/" | ":" | "-" | "=" | "+" | "*") {
+                write_term(s, &args[0]);
+                s.push_str(f);
+                write_term(s, &args[1]);
+                return;
+            }
+            write_term(s, &Term::Atom(f.clone()));
+            s.push('(');
+            for (i, x) in args.iter().enumerate() {
+                if i > 0 {
+                    s.push_str(", ");
+                }
+                write_term(s, x);
+            }
+            s.push(')');
+        }
+        Term::Var(v) => s.push_str(v),
+        _ => s.push_str("_"),
+    }
+}
+
+/// A float as Prolog text (always with a dot, exponents as `1.0e-5`).
+pub fn fmt_float(f: f64) -> String {
+    if !f.is_finite() {
+        return "0.0".into();
+    }
+    let s = format!("{f:?}");
+    if s.contains('e') && !s.contains('.') {
+        s.replacen('e', ".0e", 1)
+    } else {
+        s
+    }
+}
+
+/// The numeric value of a number term.
+pub fn term_number(t: &Term) -> Option<f64> {
+    match t {
+        Term::Integer(i) => i.to_string().parse().ok(),
+        Term::Float(f) => Some(*f),
+        Term::Rational(r) => {
+            let s = r.to_string();
+            match s.split_once('/') {
+                Some((a, b)) => Some(a.trim().parse::<f64>().ok()? / b.trim().parse::<f64>().ok()?),
+                None => s.parse().ok(),
+            }
+        }
+        _ => None,
+    }
+}
+
+fn prolog_quoted(s: &str) -> String {
+    format!("'{}'", s.replace('\\', "\\\\").replace('\'', "\\'"))
+}
+
+impl KnowledgeBase {
+    /// A machine with the built-in KB loaded (about 0.1-0.2 s: build it
+    /// once per run or per worker).
+    pub fn builtin() -> Result<KnowledgeBase, KbError> {
+        let mut machine = MachineBuilder::default().build();
+        machine.consult_module_string("fm_loader", LOADER.to_string());
+        for (name, text) in BUILTIN_KB {
+            machine.consult_module_string(name, text.to_string());
+        }
+        let mut kb = KnowledgeBase { machine, files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(), cache: HashMap::new(), stats: KbStats::default() };
+        // A built-in file that did not load leaves its predicates missing:
+        // check one predicate of each file so a broken build says so.
+        for probe in ["strategy(_)", "point_segment_near(0, 0, 1)", "edge_feature(ctx(180,180,180,180,180,1,1), _)", "edge_design(ctx(180,180,180,180,180,1,1), _, _)", "violation(outer_corner(n1, 10), _)", "loop_patterns([90,90,180,90,90,180], _)", "fm_known_action_(a3)"] {
+            let ok = kb.run(&format!("{probe}."))?;
+            if ok.is_empty() {
+                return Err(KbError::Clause { path: "built-in knowledge base".into(), line: 0, reason: format!("{probe} does not hold: a kb/*.pl file did not load") });
+            }
+        }
+        Ok(kb)
+    }
+
+    /// Runs a query the host wrote (well-formed by construction) and
+    /// returns every answer's bindings. An exception is an error.
+    pub fn run(&mut self, query: &str) -> Result<Vec<Bindings>, KbError> {
+        self.run_limited(query, usize::MAX)
+    }
+
+    /// Like `run`, stopping after `limit` answers.
+    pub fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
+        let t0 = std::time::Instant::now();
+        self.stats.engine_queries += 1;
+        let mut out = Vec::new();
+        for answer in self.machine.run_query(query.to_string()) {
+            match answer {
+                Ok(LeafAnswer::True) => out.push(Bindings::new()),
+                Ok(LeafAnswer::False) => break,
+                Ok(LeafAnswer::LeafAnswer { bindings, .. }) => out.push(bindings),
+                Ok(LeafAnswer::Exception(e)) | Err(e) => {
+                    self.stats.engine_time += t0.elapsed();
+                    let name = query.split('(').next().unwrap_or(query).to_string();
+                    return Err(KbError::Query { query: name, error: term_text(&e) });
+                }
+            }
+            if out.len() >= limit {
+                break;
+            }
+        }
+        self.stats.engine_time += t0.elapsed();
+        Ok(out)
+    }
+
+    /// The first answer's binding of `var`, memoised by query text.
+    pub fn ask_cached(&mut self, query: &str, var: &str) -> Result<Option<Term>, KbError> {
+        if let Some(t) = self.cache.get(query) {
+            self.stats.cached_queries += 1;
+            return Ok(t.clone());
+        }
+        let ans = self.run_limited(query, 1)?;
+        let t = ans.into_iter().next().and_then(|mut b| b.remove(var));
+        self.cache.insert(query.to_string(), t.clone());
+        Ok(t)
+    }
+
+    /// Consults a user's KB file: every clause is checked first; a file
+    /// with any unsound clause is refused whole, naming file and line.
+    /// Settings (`strategy/1`, `bound/2`) it defines replace the built-in
+    /// ones; its other clauses are added after the built-in rules.
+    pub fn consult_file(&mut self, path: &str) -> Result<usize, KbError> {
+        std::fs::metadata(path).map_err(|e| KbError::Read { path: path.into(), message: e.to_string() })?;
+        let abs = std::fs::canonicalize(path).map_err(|e| KbError::Read { path: path.into(), message: e.to_string() })?;
+        let settings = format!("[{}]", SETTINGS.join(", "));
+        let q = format!("fm_consult({}, {}, R).", prolog_quoted(&abs.to_string_lossy()), settings);
+        let ans = self.run(&q).map_err(|e| KbError::Clause { path: path.into(), line: 0, reason: e.to_string() })?;
+        let r = ans.into_iter().next().and_then(|mut b| b.remove("R"));
+        self.cache.clear();
+        match r {
+            Some(Term::Compound(f, args)) if f == "ok" => Ok(args.first().and_then(term_number).unwrap_or(0.0) as usize),
+            Some(Term::Compound(f, args)) if f == "error" && args.len() == 2 => Err(KbError::Clause {
+                path: path.into(),
+                line: term_number(&args[0]).unwrap_or(0.0) as u64,
+                reason: term_text(&args[1]),
+            }),
+            other => Err(KbError::Clause { path: path.into(), line: 0, reason: format!("could not be consulted ({})", other.map(|t| term_text(&t)).unwrap_or_else(|| "no answer".into())) }),
+        }
+        .inspect(|_| self.files.push(path.to_string()))
+    }
+
+    /// The recursion strategy: feature names in the order they are tried.
+    pub fn strategy(&mut self) -> Result<Vec<String>, KbError> {
+        let t = self.run("strategy(S).")?.into_iter().next().and_then(|mut b| b.remove("S"));
+        match t {
+            Some(Term::List(items)) => items
+                .iter()
+                .map(|x| match x {
+                    Term::Atom(a) => Ok(a.clone()),
+                    other => Err(KbError::Answer { query: "strategy/1".into(), answer: term_text(other), expected: "a feature name".into() }),
+                })
+                .collect(),
+            other => Err(KbError::Answer { query: "strategy/1".into(), answer: other.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()), expected: "a list of feature names".into() }),
+        }
+    }
+
+    /// A numeric setting `bound(Name, Value)`.
+    pub fn bound(&mut self, name: &str) -> Result<f64, KbError> {
+        let t = self.run(&format!("bound({name}, V)."))?.into_iter().next().and_then(|mut b| b.remove("V"));
+        t.as_ref().and_then(term_number).ok_or_else(|| KbError::Answer {
+            query: format!("bound({name}, _)"),
+            answer: t.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()),
+            expected: "a number".into(),
+        })
+    }
+}

@@ -1,0 +1,97 @@
+/** Host support: reading a user's knowledge-base file clause by clause.
+
+fm_consult(+Path, +Settings, -Result) reads every term of Path, checks
+it, and only if the whole file is sound replaces the settings it defines
+(predicates of Settings, e.g. [strategy/1, bound/2]) and adds the other
+clauses. Result is ok(Count) or error(Line, Reason).
+*/
+
+:- use_module(library(lists)).
+
+fm_consult(Path, Settings, Result) :-
+    catch(fm_read_all_(Path, Items), E, true),
+    (   nonvar(E) -> fm_error_line_(E, Line), fm_reason_(E, Why), Result = error(Line, Why)
+    ;   fm_check_all_(Items, Problem) -> Result = Problem
+    ;   catch(fm_add_all_(Items, Settings, N), E2, true),
+        (   nonvar(E2) -> fm_reason_(E2, Why2), Result = error(0, Why2)
+        ;   Result = ok(N)
+        )
+    ).
+
+fm_read_all_(Path, Items) :-
+    setup_call_cleanup(open(Path, read, S), fm_read_items_(S, Items), close(S)).
+
+fm_read_items_(S, Items) :-
+    stream_property(S, position(P)),
+    stream_position_data(line_count, P, L0),
+    read_term(S, T, []),
+    (   T == end_of_file -> Items = []
+    ;   Line is L0 + 1,
+        Items = [item(Line, T) | Rest],
+        fm_read_items_(S, Rest)
+    ).
+
+fm_error_line_(error(_, _:L), L) :- integer(L), !.
+fm_error_line_(_, 0).
+
+fm_reason_(error(syntax_error(W), _), R) :- !, R = syntax_error(W).
+fm_reason_(error(E, _), E) :- !.
+fm_reason_(E, E).
+
+% fm_check_all_(+Items, -Problem): Problem is the first unsound item.
+fm_check_all_([item(L, T) | Items], Problem) :-
+    (   fm_check_(T, Why) -> Problem = error(L, Why)
+    ;   fm_check_all_(Items, Problem)
+    ).
+
+fm_check_((:- D), Why) :- !,
+    (   fm_directive_ok_(D) -> fail ; Why = unsupported_directive(D) ).
+fm_check_((H :- _), Why) :- !, fm_check_head_(H, Why).
+fm_check_(H, Why) :- fm_check_head_(H, Why).
+
+fm_check_head_(H, Why) :-
+    (   var(H) -> Why = head_is_a_variable
+    ;   \+ callable(H) -> Why = head_not_callable(H)
+    ;   functor(H, N, A), fm_protected_(N, A) -> Why = cannot_redefine(N/A)
+    ;   fm_action_arg_(H, Act), nonvar(Act), \+ fm_known_action_(Act) ->
+        functor(Act, AN, AA), Why = undefined_action(AN/AA)
+    ).
+
+fm_protected_(N, A) :-
+    functor(H, N, A),
+    predicate_property(H, built_in).
+fm_protected_(N, A) :-
+    functor(H, N, A),
+    predicate_property(H, defined),
+    \+ predicate_property(H, dynamic).
+
+fm_action_arg_(feature_action(_, _, A), A).
+fm_action_arg_(redesign_rule(_, _, _, _, A), A).
+
+fm_known_action_(a1(_, _, _, _)).
+fm_known_action_(a2(_, _)).
+fm_known_action_(a3).
+fm_known_action_(a4).
+fm_known_action_(shift(_, A)) :- (var(A) -> true ; fm_known_action_(A)).
+fm_known_action_(merge(_, _)).
+
+fm_directive_ok_(dynamic(_)).
+fm_directive_ok_(discontiguous(_)).
+fm_directive_ok_(use_module(library(_))).
+
+fm_add_all_(Items, Settings, N) :-
+    findall(N0/A0, (member(item(_, T), Items), fm_head_(T, H), functor(H, N0, A0), member(N0/A0, Settings)), Ps0),
+    sort(Ps0, Ps),
+    forall(member(Nm/Ar, Ps), (functor(G, Nm, Ar), retractall(G))),
+    fm_add_items_(Items, 0, N).
+
+fm_head_((H :- _), H) :- !.
+fm_head_((:- _), _) :- !, fail.
+fm_head_(H, H).
+
+fm_add_items_([], N, N).
+fm_add_items_([item(_, T) | Items], N0, N) :-
+    (   T = (:- D) -> call(D), N1 = N0
+    ;   assertz(T), N1 is N0 + 1
+    ),
+    fm_add_items_(Items, N1, N).

@@ -1,0 +1,152 @@
+//! # freemesh
+//!
+//! FREEMESH, the knowledge-based free quadrilateral mesher: a plane domain
+//! is meshed from its boundary inward, one quadrilateral at a time
+//! (Ω_n = ⟨Q_i, Ω_{n−i}⟩). The boundary features of the remaining domain
+//! are recognised by rules in a Prolog knowledge base (`kb/*.pl`, run by
+//! scryer-prolog embedded as a library), design rules turn a feature into
+//! an action, redesign rules correct an element that would spoil the rest,
+//! final patterns close the last loops, and Laplace smoothing finishes.
+//!
+//! ```no_run
+//! use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
+//! let domain = Domain::from_file("examples/plugger.json").unwrap();
+//! let mut kb = KnowledgeBase::builtin().unwrap();
+//! let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+//! assert!(result.mesh.quads.len() > 0);
+//! ```
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod boundary;
+pub mod check;
+pub mod design;
+pub mod domain;
+pub mod front;
+pub mod geometry;
+pub mod kb;
+pub mod mesh;
+pub mod mesher;
+pub mod output;
+pub mod quality;
+pub mod smoothing;
+pub mod trace;
+
+pub use domain::{Domain, DomainError};
+pub use kb::{KbError, KnowledgeBase};
+pub use mesh::Mesh;
+pub use mesher::{MeshError, MeshStats};
+pub use quality::Quality;
+pub use trace::TraceStep;
+
+/// Options of one meshing run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Replaces the domain's `size`.
+    pub size: Option<f64>,
+    /// Replaces the domain's `max_size`.
+    pub max_size: Option<f64>,
+    /// Sweeps of Laplace smoothing (Eq. 4).
+    pub smoothing_passes: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { size: None, max_size: None, smoothing_passes: 30 }
+    }
+}
+
+impl Options {
+    /// Sets the boundary size.
+    pub fn with_size(mut self, size: Option<f64>) -> Self {
+        self.size = size;
+        self
+    }
+    /// Sets the largest interior size.
+    pub fn with_max_size(mut self, max_size: Option<f64>) -> Self {
+        self.max_size = max_size;
+        self
+    }
+}
+
+/// Any error of a meshing run.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The domain is invalid.
+    #[error(transparent)]
+    Domain(#[from] DomainError),
+    /// The knowledge base failed.
+    #[error(transparent)]
+    Kb(#[from] KbError),
+    /// Meshing stopped short.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The finished mesh failed its check (a defect: never written).
+    #[error("the mesh failed its check before writing: {0}")]
+    Check(#[from] check::MeshCheckError),
+    /// An option is out of range.
+    #[error("{0}")]
+    Option(String),
+}
+
+/// The outcome of a meshing run.
+#[derive(Debug, Clone)]
+pub struct MeshResult {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The inference trace.
+    pub trace: Vec<TraceStep>,
+    /// Counters of the recursion.
+    pub stats: MeshStats,
+    /// Quality figures.
+    pub quality: Quality,
+    /// Engine use during the run.
+    pub kb_stats: kb::KbStats,
+}
+
+/// Meshes a domain with the knowledge base, smooths and checks the mesh.
+pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, progress: &mut dyn FnMut(usize)) -> Result<MeshResult, Error> {
+    let size = opts.size.unwrap_or(domain.size);
+    if !(size.is_finite() && size > 0.0) {
+        return Err(Error::Option(format!("--size must be a positive number, got {size}")));
+    }
+    if let Some(m) = opts.max_size {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(Error::Option(format!("--max-size must be a positive number, got {m}")));
+        }
+    }
+    let kb_before = kb.stats;
+    let disc = boundary::discretise(domain, size)?;
+    let n_loops = 1 + domain.holes.len() as u32;
+    let area: f64 = disc
+        .mesh
+        .boundary
+        .iter()
+        .filter(|e| e.group < n_loops)
+        .map(|e| disc.mesh.nodes[e.a as usize].perp_dot(disc.mesh.nodes[e.b as usize]) / 2.0)
+        .sum();
+    let mut m = mesher::Mesher::new(kb, disc, size, area)?;
+    if let Err(e) = m.run(progress) {
+        // A debugging aid: the state where meshing stopped, as a picture.
+        if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
+            let loops: Vec<Vec<u32>> = m.front.live_loops().iter().map(|&l| m.front.loop_fvs(l).iter().map(|&f| m.front.node(f)).collect()).collect();
+            let _ = std::fs::write(&path, output::to_svg(&m.mesh, &loops, "stopped"));
+            let la: f64 = loops.iter().map(|l| geometry::polygon_area(&l.iter().map(|&n| m.mesh.nodes[n as usize]).collect::<Vec<_>>())).sum();
+            eprintln!("DEBUG: quads area {} + loops area {} = {} vs domain {}; loops {:?}", m.mesh.area(), la, m.mesh.area() + la, area, loops);
+            let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
+            let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
+        }
+        return Err(e.into());
+    }
+    let mut mesh = std::mem::take(&mut m.mesh);
+    let trace = std::mem::take(&mut m.trace);
+    let stats = m.stats;
+    smoothing::laplace(&mut mesh, opts.smoothing_passes);
+    check::check_mesh(&mesh, area)?;
+    let quality = quality::measure(&mesh);
+    let mut kb_stats = kb.stats;
+    kb_stats.engine_queries -= kb_before.engine_queries;
+    kb_stats.cached_queries -= kb_before.cached_queries;
+    kb_stats.engine_time -= kb_before.engine_time;
+    Ok(MeshResult { mesh, trace, stats, quality, kb_stats })
+}

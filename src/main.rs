@@ -1,0 +1,75 @@
+//! The `freemesh` binary: parses arguments, runs, prints one line per error.
+
+mod cli;
+
+use anyhow::{Context, Result};
+use clap::Parser;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use freemesh::output::{render, write_all, Format};
+use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
+
+fn main() -> ExitCode {
+    let cli = match cli::Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let msg = format!("{e:#}");
+            if msg.contains("Broken pipe") {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("error: {}", msg.replace('\n', " "));
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(cli: cli::Cli) -> Result<()> {
+    match cli.command {
+        cli::Command::Mesh(args) => mesh(args),
+    }
+}
+
+fn mesh(args: cli::MeshArgs) -> Result<()> {
+    let t0 = Instant::now();
+    let formats: Vec<(PathBuf, Format)> = args.outputs.iter().map(|p| Ok((p.clone(), Format::from_path(p)?))).collect::<Result<_>>()?;
+    let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    let mut kb = KnowledgeBase::builtin()?;
+    for f in &args.kb {
+        kb.consult_file(&f.to_string_lossy())?;
+    }
+    let opts = Options::default().with_size(args.size).with_max_size(args.max_size);
+    let result = mesh_domain(&domain, &mut kb, &opts, &mut |_| {})?;
+    let mut files: Vec<(PathBuf, String)> = formats.iter().map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f))).collect();
+    if let Some(t) = &args.trace {
+        let mut text = String::new();
+        for step in &result.trace {
+            text.push_str(&step.to_json_line());
+            text.push('\n');
+        }
+        files.push((t.clone(), text));
+    }
+    write_all(&files).context("writing the outputs")?;
+    let q = &result.quality;
+    eprintln!(
+        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits, {:.3} s",
+        domain.name,
+        result.mesh.nodes.len(),
+        q.quads,
+        q.min_angle,
+        q.max_angle,
+        q.pct_45_135,
+        result.stats.fallback_splits,
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -1,0 +1,986 @@
+//! The recursion strategy (Eq. 1): Ω_n = ⟨Q_i, Ω_{n−i}⟩. While the front
+//! has loops, take the edge whose feature comes first in the KB's strategy,
+//! ask the KB for its design action, place the element, let the redesign
+//! rules correct it, commit it, and close four- and six-segment loops with
+//! the final patterns. A loop on which no rule gives a valid element is
+//! split by a chord (the classic loop subdivision) and the recursion goes on.
+
+use glam::DVec2;
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap, HashMap};
+
+use crate::boundary::Discretised;
+use crate::design::{place, Action, Corner, Neighbourhood};
+use crate::front::{Front, Fv};
+use crate::geometry::{interior_angle, orient2d, point_segment_distances, quad_angles, segments_intersect, SegmentRelation};
+use crate::kb::{term_text, KbError, KnowledgeBase};
+use crate::mesh::{Mesh, NodeKind};
+use crate::trace::TraceStep;
+use scryer_prolog::Term;
+
+/// Why meshing stopped short.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The knowledge base failed.
+    #[error(transparent)]
+    Kb(#[from] KbError),
+    /// A loop could be neither meshed by the rules nor split.
+    #[error("could not close a loop of {len} segments near ({x:.4}, {y:.4})")]
+    Stuck {
+        /// Its length.
+        len: usize,
+        /// Where.
+        x: f64,
+        /// Where.
+        y: f64,
+    },
+    /// The element count ran far past the estimate (a runaway rule).
+    #[error("meshing made {0} elements, far more than the domain needs: stopped (a rule that shrinks elements without end?)")]
+    Runaway(usize),
+}
+
+/// Counters of one meshing run.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct MeshStats {
+    /// Elements made by design actions.
+    pub designed: usize,
+    /// Elements made by final patterns.
+    pub closed: usize,
+    /// Loop splits by the fallback.
+    pub fallback_splits: usize,
+    /// Redesign rules fired.
+    pub redesigns: usize,
+    /// Merges of a new corner with a front node (fronts meeting).
+    pub merges: usize,
+}
+
+/// Settings read from the KB once per run.
+#[derive(Debug, Clone)]
+struct Settings {
+    rank: HashMap<String, u32>,
+    upper: f64,
+    lower: f64,
+    near_node: f64,
+    rounds: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Candidate {
+    rank: u32,
+    layer: u32,
+    seq: u64,
+    key: u32,
+    version: u32,
+}
+
+/// The labelled occurrences around an oriented edge.
+#[derive(Debug, Clone, Copy)]
+struct Labels {
+    n7: Fv,
+    n4: Fv,
+    n1: Fv,
+    n2: Fv,
+    n5: Fv,
+    mirrored: bool,
+}
+
+/// A corner of a candidate element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum QNode {
+    /// An occurrence on the front.
+    Front(Fv),
+    /// A new node.
+    New(DVec2),
+    /// A new corner replaced by this front occurrence.
+    Merged(Fv),
+}
+
+/// The meshing run.
+pub struct Mesher<'k> {
+    kb: &'k mut KnowledgeBase,
+    /// The mesh built so far.
+    pub mesh: Mesh,
+    /// The remaining domain.
+    pub front: Front,
+    set: Settings,
+    version: Vec<u32>,
+    failed: Vec<u32>,
+    design: Vec<Option<(String, Action, BTreeMap<String, f64>)>>,
+    heap: BinaryHeap<Reverse<Candidate>>,
+    seq: u64,
+    /// The inference trace.
+    pub trace: Vec<TraceStep>,
+    /// Counters.
+    pub stats: MeshStats,
+    size: f64,
+    max_elements: usize,
+    scratch: Vec<Fv>,
+}
+
+const NOT_FAILED: u32 = u32::MAX;
+
+fn deg_round(x: f64) -> f64 {
+    x.round()
+}
+
+impl<'k> Mesher<'k> {
+    /// Starts a run on a discretised domain with boundary size `size`.
+    pub fn new(kb: &'k mut KnowledgeBase, disc: Discretised, size: f64, area: f64) -> Result<Mesher<'k>, MeshError> {
+        let strategy = kb.strategy()?;
+        let rank = strategy.iter().enumerate().map(|(i, f)| (f.clone(), i as u32)).collect();
+        let set = Settings { rank, upper: kb.bound("upper_corner")?, lower: kb.bound("lower_corner")?, near_node: kb.bound("near_node")?, rounds: kb.bound("redesign_rounds")?.max(0.0) as usize };
+        let mut front = Front::new(&disc.front_loop, size);
+        front.index_all(&disc.mesh.nodes);
+        let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
+        Ok(Mesher {
+            kb,
+            mesh: disc.mesh,
+            front,
+            set,
+            version: Vec::new(),
+            failed: Vec::new(),
+            design: Vec::new(),
+            heap: BinaryHeap::new(),
+            seq: 0,
+            trace: Vec::new(),
+            stats: MeshStats::default(),
+            size,
+            max_elements: (estimate * 20.0) as usize + 1000,
+            scratch: Vec::new(),
+        })
+    }
+
+    fn pos(&self, fv: Fv) -> DVec2 {
+        self.mesh.nodes[self.front.node(fv) as usize]
+    }
+
+    fn along(&self, fv: Fv, mirrored: bool) -> Fv {
+        if mirrored {
+            self.front.prev(fv)
+        } else {
+            self.front.next(fv)
+        }
+    }
+
+    fn back(&self, fv: Fv, mirrored: bool) -> Fv {
+        self.along(fv, !mirrored)
+    }
+
+    fn labels(&self, fv: Fv, mirrored: bool) -> Labels {
+        let (n1, n2) = if mirrored { (self.front.next(fv), fv) } else { (fv, self.front.next(fv)) };
+        let n4 = self.back(n1, mirrored);
+        let n7 = self.back(n4, mirrored);
+        let n5 = self.along(n2, mirrored);
+        Labels { n7, n4, n1, n2, n5, mirrored }
+    }
+
+    fn neighbourhood(&self, lab: &Labels) -> Neighbourhood {
+        Neighbourhood { p7: self.pos(lab.n7), p4: self.pos(lab.n4), p1: self.pos(lab.n1), p2: self.pos(lab.n2), p5: self.pos(lab.n5), side: if lab.mirrored { -1.0 } else { 1.0 } }
+    }
+
+    /// The context term of an edge, as the KB sees it, and its angles.
+    fn context(&self, lab: &Labels) -> (String, BTreeMap<String, f64>) {
+        let pos = &self.mesh.nodes;
+        let t = |fv| deg_round(self.front.angle(fv, pos));
+        let (t7, t4, t1, t2, t5) = (t(lab.n7), t(lab.n4), t(lab.n1), t(lab.n2), t(lab.n5));
+        let l1 = (self.pos(lab.n2) - self.pos(lab.n1)).length().max(1e-300);
+        let r = |x: f64| ((x / l1) * 100.0).round() / 100.0;
+        let l5 = r((self.pos(lab.n1) - self.pos(lab.n4)).length());
+        let l6 = r((self.pos(lab.n5) - self.pos(lab.n2)).length());
+        let ctx = format!("ctx({t7}, {t4}, {t1}, {t2}, {t5}, {}, {})", crate::kb::fmt_float(l5), crate::kb::fmt_float(l6));
+        let angles = [("theta7", t7), ("theta4", t4), ("theta1", t1), ("theta2", t2), ("theta5", t5)].into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+        (ctx, angles)
+    }
+
+    fn ensure_capacity(&mut self) {
+        let n = self.front.capacity() * 2;
+        if self.version.len() < n {
+            self.version.resize(n, 0);
+            self.failed.resize(n, NOT_FAILED);
+            self.design.resize(n, None);
+        }
+    }
+
+    /// Asks the KB for the feature and action of oriented edge `key`
+    /// (= 2 fv + mirrored) and queues it.
+    fn classify(&mut self, key: u32) -> Result<(), MeshError> {
+        let fv = key / 2;
+        let mirrored = key % 2 == 1;
+        self.version[key as usize] += 1;
+        self.design[key as usize] = None;
+        if !self.front.alive(fv) || self.front.loop_len(self.front.loop_of(fv)) <= 6 {
+            return Ok(());
+        }
+        let lab = self.labels(fv, mirrored);
+        let (ctx, angles) = self.context(&lab);
+        let q = format!("edge_design({ctx}, F, A), R = d(F, A).");
+        let Some(ans) = self.kb.ask_cached(&q, "R")? else { return Ok(()) };
+        let (feature, action) = match &ans {
+            Term::Compound(d, args) if d == "d" && args.len() == 2 => (term_text(&args[0]), Action::from_term(&args[1])),
+            _ => (String::new(), None),
+        };
+        let Some(action) = action.filter(|a| a.is_sound()) else {
+            return Err(KbError::Answer { query: "edge_design/3".into(), answer: term_text(&ans), expected: "d(Feature, Action) with a known, sound action".into() }.into());
+        };
+        let rank = *self.set.rank.get(&feature).unwrap_or(&u32::MAX);
+        let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2));
+        self.seq += 1;
+        self.heap.push(Reverse(Candidate { rank, layer, seq: self.seq, key, version: self.version[key as usize] }));
+        self.design[key as usize] = Some((feature, action, angles));
+        Ok(())
+    }
+
+    /// Re-classifies every oriented edge whose context involves a changed
+    /// occurrence (three steps either way).
+    fn refresh(&mut self, touched: &[Fv]) -> Result<(), MeshError> {
+        self.ensure_capacity();
+        let mut keys = Vec::new();
+        for &t in touched {
+            if !self.front.alive(t) {
+                continue;
+            }
+            let mut a = t;
+            for _ in 0..3 {
+                a = self.front.prev(a);
+            }
+            let mut fv = a;
+            for _ in 0..7 {
+                keys.push(fv * 2);
+                keys.push(fv * 2 + 1);
+                fv = self.front.next(fv);
+            }
+        }
+        keys.sort_unstable();
+        keys.dedup();
+        for k in keys {
+            self.classify(k)?;
+        }
+        Ok(())
+    }
+
+    /// Runs the recursion to the end.
+    pub fn run(&mut self, progress: &mut dyn FnMut(usize)) -> Result<(), MeshError> {
+        self.ensure_capacity();
+        let all: Vec<Fv> = self.front.live_loops().iter().flat_map(|&l| self.front.loop_fvs(l)).collect();
+        for l in self.front.live_loops() {
+            self.try_close_loop(l)?;
+        }
+        self.refresh(&all)?;
+        loop {
+            while let Some(Reverse(c)) = self.heap.pop() {
+                if self.version[c.key as usize] != c.version || self.failed[c.key as usize] == c.version {
+                    continue;
+                }
+                let fv = c.key / 2;
+                if !self.front.alive(fv) {
+                    continue;
+                }
+                if self.mesh.quads.len() > self.max_elements {
+                    return Err(MeshError::Runaway(self.mesh.quads.len()));
+                }
+                if !self.try_design(c.key)? {
+                    self.failed[c.key as usize] = c.version;
+                }
+                progress(self.mesh.quads.len());
+            }
+            // No rule applies anywhere: close what the final patterns
+            // close, split the rest.
+            let loops = self.front.live_loops();
+            if loops.is_empty() {
+                return Ok(());
+            }
+            let mut changed = false;
+            for l in loops {
+                if self.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
+                    changed = true;
+                    continue;
+                }
+                if self.fallback_split(l)? {
+                    changed = true;
+                }
+            }
+            if !changed {
+                let l = self.front.live_loops()[0];
+                let p = self.pos(self.front.loop_head(l));
+                return Err(MeshError::Stuck { len: self.front.loop_len(l), x: p.x, y: p.y });
+            }
+            let touched = self.front.take_touched();
+            self.refresh(&touched)?;
+        }
+    }
+
+    /// The element of an action over the labelled edge: its corners
+    /// N1 N2 N3 N4 (labelled order), or None if it cannot be placed.
+    fn element(&self, action: &Action, lab: &Labels) -> Option<[QNode; 4]> {
+        let nb = self.neighbourhood(lab);
+        let (p3, p4) = place(action, &nb)?;
+        let n3 = match (action, p3) {
+            (Action::A3, _) => QNode::Front(lab.n5),
+            (_, Some(p)) => QNode::New(p),
+            _ => return None,
+        };
+        let n4 = match p4 {
+            Some(p) => QNode::New(p),
+            None => QNode::Front(lab.n4),
+        };
+        Some([QNode::Front(lab.n1), QNode::Front(lab.n2), n3, n4])
+    }
+
+    fn qpos(&self, q: QNode) -> DVec2 {
+        match q {
+            QNode::Front(fv) | QNode::Merged(fv) => self.pos(fv),
+            QNode::New(p) => p,
+        }
+    }
+
+    fn qnode_id(&self, q: QNode) -> Option<u32> {
+        match q {
+            QNode::Front(fv) | QNode::Merged(fv) => Some(self.front.node(fv)),
+            QNode::New(_) => None,
+        }
+    }
+
+    /// Counter-clockwise corner positions of an element.
+    fn ccw(&self, q: &[QNode; 4], mirrored: bool) -> [DVec2; 4] {
+        let p = q.map(|x| self.qpos(x));
+        if mirrored {
+            [p[3], p[2], p[1], p[0]]
+        } else {
+            p
+        }
+    }
+
+    /// Hard validity: a convex element, no front edge crossing it, no front
+    /// node inside it.
+    fn element_valid(&mut self, q: &[QNode; 4], mirrored: bool) -> bool {
+        let p = self.ccw(q, mirrored);
+        let ids: Vec<Option<u32>> = {
+            let v = q.map(|x| self.qnode_id(x));
+            if mirrored {
+                vec![v[3], v[2], v[1], v[0]]
+            } else {
+                v.to_vec()
+            }
+        };
+        for i in 0..4 {
+            if orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]) <= 0.0 {
+                return false;
+            }
+            if let (Some(a), Some(b)) = (ids[i], ids[(i + 1) % 4]) {
+                if a == b {
+                    return false;
+                }
+            }
+        }
+        let angs = quad_angles(p);
+        if angs.iter().any(|&a| !(4.0..=176.0).contains(&a)) {
+            return false;
+        }
+        let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
+        let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+        let mut near = std::mem::take(&mut self.scratch);
+        self.front.edges_near(lo, hi, &mut near);
+        let is_quad_node = |n: u32| ids.contains(&Some(n));
+        let mut ok = true;
+        'edges: for &e in &near {
+            let (na, nb) = (self.front.node(e), self.front.node(self.front.next(e)));
+            let (a, b) = (self.mesh.nodes[na as usize], self.mesh.nodes[nb as usize]);
+            // a front node strictly inside the element
+            if !is_quad_node(na) && (0..4).all(|i| orient2d(p[i], p[(i + 1) % 4], a) > 0.0) {
+                ok = false;
+                break;
+            }
+            for i in 0..4 {
+                let (qa, qb) = (ids[i], ids[(i + 1) % 4]);
+                if let (Some(x), Some(y)) = (qa, qb) {
+                    if (x == na && y == nb) || (x == nb && y == na) {
+                        continue; // the front edge is this element edge
+                    }
+                }
+                match segments_intersect(p[i], p[(i + 1) % 4], a, b) {
+                    SegmentRelation::Disjoint => {}
+                    SegmentRelation::Touch => {
+                        // only at a node the two share
+                        let shared = [qa, qb].iter().any(|q| q.is_some_and(|q| q == na || q == nb));
+                        if !shared {
+                            ok = false;
+                            break 'edges;
+                        }
+                    }
+                    _ => {
+                        ok = false;
+                        break 'edges;
+                    }
+                }
+            }
+        }
+        self.scratch = near;
+        ok
+    }
+
+    /// The relations the redesign rules judge, as Prolog terms, and the
+    /// nearest front occurrence to each new corner (a merge target).
+    fn relations(&mut self, q: &[QNode; 4], lab: &Labels, action: &Action) -> (Vec<String>, [Option<Fv>; 2]) {
+        let pos: Vec<DVec2> = q.iter().map(|&x| self.qpos(x)).collect();
+        let s = (0..4).map(|i| (pos[(i + 1) % 4] - pos[i]).length()).sum::<f64>() / 4.0;
+        let mut rel = Vec::new();
+        let mut targets = [None, None];
+        let ids: Vec<Option<u32>> = q.iter().map(|&x| self.qnode_id(x)).collect();
+        let is_quad_node = |n: u32| ids.contains(&Some(n));
+        let f = crate::kb::fmt_float;
+        let r3 = |x: f64| (x * 1000.0).round() / 1000.0;
+        // the element's corners in labelled order (unsigned: it is convex
+        // when it matters), and what the remaining domain keeps
+        let qa: [f64; 4] = std::array::from_fn(|i| corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]));
+        let th = |fv: Fv| self.front.angle(fv, &self.mesh.nodes);
+        let mut small = |rel: &mut Vec<String>, what: &str, name: &str, deg: f64| {
+            if deg < 90.0 {
+                rel.push(format!("{what}({name}, {})", f(deg_round(deg))));
+            }
+        };
+        match action {
+            Action::A1 { .. } => {
+                small(&mut rel, "outer_corner", "n1", th(lab.n1) - qa[0]);
+                small(&mut rel, "outer_corner", "n2", th(lab.n2) - qa[1]);
+            }
+            Action::A2 { .. } | Action::A4 => {
+                small(&mut rel, "outer_corner", "n2", th(lab.n2) - qa[1]);
+                small(&mut rel, "outer_corner", "n4", th(lab.n4) - qa[3]);
+            }
+            Action::A3 => {
+                for (name, i, fv) in [("n3", 2usize, lab.n5), ("n4", 3, lab.n4)] {
+                    if qa[i] < 90.0 || qa[i] > 120.0 {
+                        rel.push(format!("inner_corner({name}, {})", f(deg_round(qa[i]))));
+                    }
+                    small(&mut rel, "remaining_corner", name, th(fv) - qa[i]);
+                }
+            }
+            _ => {}
+        }
+        // new corners near front nodes and segments
+        for (ci, &qi) in [2usize, 3].iter().enumerate() {
+            let QNode::New(c) = q[qi] else { continue };
+            let name = if qi == 2 { "n3" } else { "n4" };
+            let r = s;
+            let mut near = std::mem::take(&mut self.scratch);
+            self.front.edges_near(c - DVec2::splat(r), c + DVec2::splat(r), &mut near);
+            let mut best: Option<(f64, Fv)> = None;
+            let mut worst_seg: Option<(f64, f64, f64)> = None;
+            for &e in &near {
+                let (na, nb) = (self.front.node(e), self.front.node(self.front.next(e)));
+                if !is_quad_node(na) && self.front.loop_of(e) == self.front.loop_of(lab.n1) {
+                    let d = (self.mesh.nodes[na as usize] - c).length();
+                    if best.is_none_or(|b| d < b.0) {
+                        best = Some((d, e));
+                    }
+                }
+                if is_quad_node(na) || is_quad_node(nb) {
+                    continue;
+                }
+                let (v, h) = point_segment_distances(c, self.mesh.nodes[na as usize], self.mesh.nodes[nb as usize]);
+                if worst_seg.is_none_or(|w| v + h < w.0 + w.1) {
+                    worst_seg = Some((v, h, v + h));
+                }
+            }
+            self.scratch = near;
+            if let Some((d, e)) = best {
+                if d < s {
+                    rel.insert(0, format!("corner_node({name}, {}, {})", f(r3(d / s)), f(1.0)));
+                    targets[ci] = Some(e);
+                }
+            }
+            if let Some((v, h, _)) = worst_seg.filter(|w| w.0 < s && w.1 < s) {
+                rel.push(format!("corner_segment({name}, {}, {}, {})", f(r3(v / s)), f(r3(h / s)), f(1.0)));
+            }
+        }
+        // element edges near concave front nodes
+        for (name, i, j) in [("e23", 1usize, 2usize), ("e34", 2, 3), ("e41", 3, 0)] {
+            if !matches!(q[i], QNode::New(_)) && !matches!(q[j], QNode::New(_)) {
+                continue;
+            }
+            let (a, b) = (pos[i], pos[j]);
+            let lo = a.min(b) - DVec2::splat(s * 0.5);
+            let hi = a.max(b) + DVec2::splat(s * 0.5);
+            let mut near = std::mem::take(&mut self.scratch);
+            self.front.edges_near(lo, hi, &mut near);
+            let mut worst: Option<(f64, f64, f64)> = None;
+            for &e in &near {
+                let n = self.front.node(e);
+                if is_quad_node(n) {
+                    continue;
+                }
+                let t = self.front.angle(e, &self.mesh.nodes);
+                if t <= 180.0 {
+                    continue;
+                }
+                let (v, h) = point_segment_distances(self.mesh.nodes[n as usize], a, b);
+                if worst.is_none_or(|w| v + h < w.0 + w.1) {
+                    worst = Some((v, h, t));
+                }
+            }
+            self.scratch = near;
+            if let Some((v, h, t)) = worst.filter(|w| w.0 < s && w.1 < s) {
+                rel.push(format!("edge_point({name}, {}, {}, {}, {})", f(r3(v / s)), f(r3(h / s)), f(1.0), f(deg_round(t))));
+            }
+        }
+        (rel, targets)
+    }
+
+    /// Tries the design for oriented edge `key`: place, redesign, check,
+    /// commit. False when no valid element came of it.
+    fn try_design(&mut self, key: u32) -> Result<bool, MeshError> {
+        let Some((feature, mut action, angles)) = self.design[key as usize].clone() else { return Ok(false) };
+        let mut lab = self.labels(key / 2, key % 2 == 1);
+        let mut ctx = self.context(&lab).0;
+        let mut fired = Vec::new();
+        let mut merges: [Option<Fv>; 2] = [None, None];
+        let mut q = None;
+        for round in 0..=self.set.rounds {
+            let Some(el) = self.element(&action, &lab) else { break };
+            let (rel, targets) = self.relations(&el, &lab, &action);
+            q = Some(el);
+            if round == self.set.rounds || rel.is_empty() {
+                break;
+            }
+            let query = format!("redesign({ctx}, {action}, [{}], Rule, New), R = r(Rule, New).", rel.join(", "));
+            let Some(ans) = self.kb.ask_cached(&query, "R")? else { break };
+            let Term::Compound(_, args) = &ans else { break };
+            let rule = term_text(&args[0]);
+            let Some(new) = Action::from_term(&args[1]).filter(|a| a.is_sound()) else {
+                return Err(KbError::Answer { query: format!("redesign rule {rule}"), answer: term_text(&args[1]), expected: "a known, sound action".into() }.into());
+            };
+            fired.push(rule);
+            self.stats.redesigns += 1;
+            match new {
+                Action::Shift(a) => {
+                    lab = self.labels_shifted(&lab);
+                    ctx = self.context(&lab).0;
+                    action = *a;
+                    merges = [None, None];
+                }
+                Action::Merge(c, a) => {
+                    let slot = if c == Corner::N3 { 0 } else { 1 };
+                    if targets[slot].is_none() {
+                        break;
+                    }
+                    merges[slot] = targets[slot];
+                    action = *a;
+                    // the merged corner is fixed now: judge the rest
+                    let el = self.element(&action, &lab).map(|e| self.apply_merges(e, &merges));
+                    q = el;
+                    break;
+                }
+                a => action = a,
+            }
+            q = None;
+        }
+        let Some(mut el) = q.or_else(|| self.element(&action, &lab)) else { return Ok(false) };
+        el = self.apply_merges(el, &merges);
+        if !self.element_valid(&el, lab.mirrored) {
+            // the merge made it invalid: try without
+            if merges.iter().any(|m| m.is_some()) {
+                let Some(plain) = self.element(&action, &lab) else { return Ok(false) };
+                if !self.element_valid(&plain, lab.mirrored) {
+                    return Ok(false);
+                }
+                el = plain;
+            } else {
+                return Ok(false);
+            }
+        }
+        let edge_nodes = (self.front.node(lab.n1), self.front.node(lab.n2));
+        let Some(ids) = self.commit_element(&el, &lab, &action)? else { return Ok(false) };
+        self.stats.designed += 1;
+        let step = self.trace.len() + 1;
+        self.trace.push(TraceStep {
+            step,
+            edge: [edge_nodes.0, edge_nodes.1],
+            angles,
+            feature,
+            action: action.to_string(),
+            redesign: fired,
+            element: ids.to_vec(),
+        });
+        Ok(true)
+    }
+
+    fn labels_shifted(&self, lab: &Labels) -> Labels {
+        Labels { n7: lab.n4, n4: lab.n1, n1: lab.n2, n2: lab.n5, n5: self.along(lab.n5, lab.mirrored), mirrored: lab.mirrored }
+    }
+
+    fn apply_merges(&self, mut el: [QNode; 4], merges: &[Option<Fv>; 2]) -> [QNode; 4] {
+        for (slot, qi) in [(0usize, 2usize), (1, 3)] {
+            if let (Some(t), QNode::New(_)) = (merges[slot], el[qi]) {
+                el[qi] = QNode::Merged(t);
+            }
+        }
+        el
+    }
+
+    /// Commits an element: new nodes, the front path replaced, pinches
+    /// split. Undone (None) if a loop would be left odd or degenerate.
+    fn commit_element(&mut self, el: &[QNode; 4], lab: &Labels, action: &Action) -> Result<Option<[u32; 4]>, MeshError> {
+        let nodes_before = self.mesh.nodes.len();
+        let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2)) + 1;
+        let mut id = |q: QNode, mesh: &mut Mesh, front: &Front| -> u32 {
+            match q {
+                QNode::Front(fv) | QNode::Merged(fv) => front.node(fv),
+                QNode::New(p) => mesh.add_node(p, NodeKind::Interior),
+            }
+        };
+        let n1 = id(el[0], &mut self.mesh, &self.front);
+        let n2 = id(el[1], &mut self.mesh, &self.front);
+        let n3 = id(el[2], &mut self.mesh, &self.front);
+        let n4 = id(el[3], &mut self.mesh, &self.front);
+        self.front.begin();
+        // the front path replaced, in loop order
+        let (a, b, mid): (Fv, Fv, Vec<u32>) = match action {
+            Action::A1 { .. } => (lab.n1, lab.n2, vec![n4, n3]),
+            Action::A2 { .. } | Action::A4 => (lab.n4, lab.n2, vec![n3]),
+            Action::A3 => (lab.n4, lab.n5, vec![]),
+            _ => return Ok(None),
+        };
+        let (a, b, mid) = if lab.mirrored { (b, a, mid.into_iter().rev().collect()) } else { (a, b, mid) };
+        let made = self.front.replace_path(a, b, &mid, layer);
+        // split at merged corners
+        let mut ok = true;
+        for (qi, q) in el.iter().enumerate().skip(2) {
+            let QNode::Merged(target) = *q else { continue };
+            let node = self.front.node(target);
+            let Some(&occ) = made.iter().find(|&&m| self.front.node(m) == node) else {
+                ok = false;
+                break;
+            };
+            let _ = qi;
+            if !self.front.alive(target) || self.front.loop_of(target) != self.front.loop_of(occ) {
+                ok = false;
+                break;
+            }
+            self.front.split_pinch(occ, target);
+        }
+        if ok {
+            for l in self.touched_loops() {
+                let n = self.front.loop_len(l);
+                if n % 2 == 1 || n < 4 {
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            self.front.rollback();
+            self.mesh.nodes.truncate(nodes_before);
+            self.mesh.kinds.truncate(nodes_before);
+            return Ok(None);
+        }
+        self.front.commit(&self.mesh.nodes);
+        let ids = if lab.mirrored { [n4, n3, n2, n1] } else { [n1, n2, n3, n4] };
+        self.mesh.quads.push(ids);
+        if std::env::var("FREEMESH_DEBUG_CHECK").is_ok() {
+            self.debug_overlap(self.mesh.quads.len() - 1);
+        }
+        if action_is_merge(el) {
+            self.stats.merges += 1;
+        }
+        let touched = self.front.take_touched();
+        let mut loops: Vec<u32> = touched.iter().filter(|&&t| self.front.alive(t)).map(|&t| self.front.loop_of(t)).collect();
+        loops.sort_unstable();
+        loops.dedup();
+        for l in loops {
+            self.try_close_loop(l)?;
+        }
+        let more = self.front.take_touched();
+        let mut all = touched;
+        all.extend(more);
+        self.refresh(&all)?;
+        Ok(Some(ids))
+    }
+
+    fn touched_loops(&self) -> Vec<u32> {
+        self.front.touched_loops()
+    }
+
+    fn debug_overlap(&self, qi: usize) {
+        let p = self.mesh.quad_points(qi);
+        for j in 0..qi {
+            let r = self.mesh.quad_points(j);
+            let inside = |x: DVec2, q: &[DVec2; 4]| (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], x) > 0.0);
+            let mut bad = p.iter().any(|&x| inside(x, &r)) || r.iter().any(|&x| inside(x, &p));
+            for a in 0..4 {
+                for b in 0..4 {
+                    if segments_intersect(p[a], p[(a + 1) % 4], r[b], r[(b + 1) % 4]) == SegmentRelation::Cross {
+                        bad = true;
+                    }
+                }
+            }
+            if bad {
+                eprintln!("DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}", self.mesh.quads[qi], self.mesh.quads[j], self.trace.len() + 1);
+            }
+        }
+    }
+
+    /// Closes a loop of four or six segments with the final patterns.
+    fn try_close_loop(&mut self, l: u32) -> Result<bool, MeshError> {
+        let n = self.front.loop_len(l);
+        if n != 4 && n != 6 {
+            return Ok(false);
+        }
+        let fvs = self.front.loop_fvs(l);
+        let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
+        let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
+        let angles: Vec<f64> = fvs.iter().map(|&f| deg_round(self.front.angle(f, &self.mesh.nodes))).collect();
+        let angle_map: BTreeMap<String, f64> = angles.iter().enumerate().map(|(i, a)| (format!("a{}", i + 1), *a)).collect();
+        if n == 4 {
+            let q = [p[0], p[1], p[2], p[3]];
+            if convex_ok(&q) && distinct(&ids) {
+                let quad = [ids[0], ids[1], ids[2], ids[3]];
+                self.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
+                return Ok(true);
+            }
+            return Ok(false);
+        }
+        if !distinct(&ids) {
+            return Ok(false);
+        }
+        let list = angles.iter().map(|a| crate::kb::fmt_float(*a)).collect::<Vec<_>>().join(", ");
+        let q = format!("loop_patterns([{list}], Ps).");
+        let Some(Term::List(pats)) = self.kb.ask_cached(&q, "Ps")? else { return Ok(false) };
+        for pat in pats {
+            let Term::Compound(name, args) = &pat else { continue };
+            let Some(k) = args.first().and_then(crate::kb::term_number) else { continue };
+            let k = k as usize % 6;
+            let at = |i: usize| (k + i) % 6; // the paper's N_{i+1}
+            let (quads, new_pts): (Vec<[usize; 4]>, Vec<DVec2>) = match name.as_str() {
+                "pattern3" => (vec![[at(2), at(3), at(4), at(5)], [at(5), at(0), at(1), at(2)]], vec![]),
+                "pattern1" | "pattern2" => {
+                    let c = if name == "pattern1" {
+                        (p[at(1)] + p[at(3)] + p[at(5)]) / 3.0
+                    } else {
+                        (3.0 * p[at(2)] + 3.0 * p[at(4)] + p[at(1)] + p[at(5)]) / 8.0
+                    };
+                    // 6 stands for the new node
+                    (vec![[at(0), at(1), 6, at(5)], [at(1), at(2), at(3), 6], [at(3), at(4), at(5), 6]], vec![c])
+                }
+                _ => continue,
+            };
+            let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
+            if quads.iter().all(|qd| convex_ok(&qd.map(pt))) {
+                let mut extra = Vec::new();
+                for &c in &new_pts {
+                    extra.push(c);
+                }
+                let base = self.mesh.nodes.len() as u32;
+                let quads_ids: Vec<[u32; 4]> = quads.iter().map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 })).collect();
+                self.close_with(l, quads_ids, &extra, "final6", term_text(&pat), angle_map);
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    fn close_with(&mut self, l: u32, quads: Vec<[u32; 4]>, new_nodes: &[DVec2], feature: &str, action: String, angles: BTreeMap<String, f64>) {
+        for &c in new_nodes {
+            self.mesh.add_node(c, NodeKind::Interior);
+        }
+        let head = self.front.loop_head(l);
+        let edge = [self.front.node(head), self.front.node(self.front.next(head))];
+        self.front.begin();
+        self.front.close_loop(l);
+        self.front.commit(&self.mesh.nodes);
+        for q in quads {
+            self.mesh.quads.push(q);
+            if std::env::var("FREEMESH_DEBUG_CHECK").is_ok() {
+                self.debug_overlap(self.mesh.quads.len() - 1);
+            }
+            self.stats.closed += 1;
+            let step = self.trace.len() + 1;
+            self.trace.push(TraceStep { step, edge, angles: angles.clone(), feature: feature.into(), action: action.clone(), redesign: vec![], element: q.to_vec() });
+        }
+    }
+
+    /// The fallback: split a loop by the best chord between two of its
+    /// nodes, subdivided so both parts are even (loop subdivision after
+    /// Sluiter et al., the paper's refs. 11, 23, 27); a non-convex loop of
+    /// four is closed by a ring of four elements round a fifth.
+    fn fallback_split(&mut self, l: u32) -> Result<bool, MeshError> {
+        let n = self.front.loop_len(l);
+        if n == 4 {
+            return Ok(self.close_ring(l));
+        }
+        let fvs = self.front.loop_fvs(l);
+        let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
+        let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
+        let theta: Vec<f64> = fvs.iter().map(|&f| self.front.angle(f, &self.mesh.nodes)).collect();
+        let elen: Vec<f64> = (0..n).map(|i| (p[(i + 1) % n] - p[i]).length()).collect();
+        let mut best: Option<(f64, usize, usize, usize)> = None;
+        let stride = if n > 300 { n / 300 } else { 1 };
+        for i in (0..n).step_by(stride) {
+            for j in (i + 2..n).step_by(stride) {
+                let gap = j - i;
+                if gap > n - 2 || ids[i] == ids[j] {
+                    continue;
+                }
+                let d = p[j] - p[i];
+                let len = d.length();
+                if len <= 0.0 {
+                    continue;
+                }
+                // inside the wedges at both ends
+                let (Some(si), Some(sj)) = (wedge_split(p[(i + n - 1) % n], p[i], p[(i + 1) % n], d, theta[i]), wedge_split(p[(j + n - 1) % n], p[j], p[(j + 1) % n], -d, theta[j])) else {
+                    continue;
+                };
+                let h = (elen[i] + elen[(i + n - 1) % n] + elen[j] + elen[(j + n - 1) % n]) / 4.0;
+                let t = len / h;
+                let parity = gap % 2;
+                let mut k = (t.round() as usize).max(1);
+                if k % 2 != parity {
+                    k = if (k as f64) < t || k == 1 { k + 1 } else { k - 1 };
+                }
+                if k == 0 {
+                    k = 2;
+                }
+                if gap + k < 4 || n - gap + k < 4 {
+                    if gap + k + 2 >= 4 && n - gap + k + 2 >= 4 {
+                        k += 2;
+                    } else {
+                        continue;
+                    }
+                }
+                let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs() + 10.0 * (gap.min(n - gap) as f64 / n as f64);
+                if best.is_some_and(|b| score <= b.0) {
+                    continue;
+                }
+                if !self.chord_clear(p[i], p[j], ids[i], ids[j], h) {
+                    continue;
+                }
+                best = Some((score, i, j, k));
+            }
+        }
+        let Some((_, i, j, k)) = best else { return Ok(false) };
+        let (pi, pj) = (p[i], p[j]);
+        let inner: Vec<u32> = (1..k).map(|s| self.mesh.add_node(pi + (pj - pi) * (s as f64 / k as f64), NodeKind::Interior)).collect();
+        let mut path: Vec<u32> = inner.clone();
+        path.push(ids[j]);
+        path.extend(inner.iter().rev());
+        path.push(ids[i]);
+        self.front.begin();
+        let layer = self.front.layer(fvs[i]).max(self.front.layer(fvs[j]));
+        let made = self.front.replace_path(fvs[i], self.front.next(fvs[i]), &path, layer);
+        self.front.split_pinch(made[k - 1], fvs[j]);
+        self.front.commit(&self.mesh.nodes);
+        self.stats.fallback_splits += 1;
+        let step = self.trace.len() + 1;
+        let mut angles = BTreeMap::new();
+        angles.insert("theta1".to_string(), deg_round(theta[i]));
+        angles.insert("theta2".to_string(), deg_round(theta[j]));
+        self.trace.push(TraceStep { step, edge: [ids[i], ids[j]], angles, feature: "stuck".into(), action: format!("split({k})"), redesign: vec![], element: vec![] });
+        let touched = self.front.take_touched();
+        let mut loops: Vec<u32> = touched.iter().filter(|&&t| self.front.alive(t)).map(|&t| self.front.loop_of(t)).collect();
+        loops.sort_unstable();
+        loops.dedup();
+        for l in loops {
+            self.try_close_loop(l)?;
+        }
+        let more = self.front.take_touched();
+        let mut all = touched;
+        all.extend(more);
+        self.ensure_capacity();
+        self.refresh(&all)?;
+        Ok(true)
+    }
+
+    /// True iff the chord crosses no front edge and passes no front node
+    /// closer than a fifth of the local size.
+    fn chord_clear(&mut self, a: DVec2, b: DVec2, na: u32, nb: u32, h: f64) -> bool {
+        let mut near = std::mem::take(&mut self.scratch);
+        let pad = DVec2::splat(h * 0.25);
+        self.front.edges_near(a.min(b) - pad, a.max(b) + pad, &mut near);
+        let mut ok = true;
+        for &e in &near {
+            let (x, y) = (self.front.node(e), self.front.node(self.front.next(e)));
+            let (px, py) = (self.mesh.nodes[x as usize], self.mesh.nodes[y as usize]);
+            if x != na && x != nb && crate::geometry::point_segment_distance(px, a, b) < 0.2 * h {
+                ok = false;
+                break;
+            }
+            if x == na || x == nb || y == na || y == nb {
+                continue;
+            }
+            if segments_intersect(a, b, px, py) != SegmentRelation::Disjoint {
+                ok = false;
+                break;
+            }
+        }
+        self.scratch = near;
+        ok
+    }
+
+    /// A non-convex loop of four: an inner element and a ring of four.
+    fn close_ring(&mut self, l: u32) -> bool {
+        let fvs = self.front.loop_fvs(l);
+        let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
+        if !distinct(&ids) {
+            return false;
+        }
+        let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
+        // Centres to try: the vertex centroid and points on both diagonals
+        // (a dart's kernel lies by its reflex corner). The inner element's
+        // corners lie on a circle round the centre, towards each corner, so
+        // it is convex whatever the loop's shape.
+        let mut centres = vec![(p[0] + p[1] + p[2] + p[3]) / 4.0];
+        for (a, b) in [(0usize, 2usize), (1, 3), (2, 0), (3, 1)] {
+            for t in [0.3, 0.5] {
+                centres.push(p[a] + (p[b] - p[a]) * t);
+            }
+        }
+        for c in centres {
+            let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
+            for t in [0.45, 0.3, 0.6] {
+                let inner: Vec<DVec2> = p.iter().map(|&x| c + (x - c).normalize_or_zero() * rmax * t).collect();
+                let mut quads: Vec<[DVec2; 4]> = (0..4).map(|i| [p[i], p[(i + 1) % 4], inner[(i + 1) % 4], inner[i]]).collect();
+                quads.push([inner[0], inner[1], inner[2], inner[3]]);
+                if quads.iter().all(convex_ok) {
+                    let base = self.mesh.nodes.len() as u32;
+                    let mut qs: Vec<[u32; 4]> = (0..4).map(|i| [ids[i], ids[(i + 1) % 4], base + ((i + 1) % 4) as u32, base + i as u32]).collect();
+                    qs.push([base, base + 1, base + 2, base + 3]);
+                    self.stats.fallback_splits += 1;
+                    self.close_with(l, qs, &inner, "stuck", "ring".into(), BTreeMap::new());
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// The unsigned angle at `v` between the directions to `a` and `b` (deg).
+fn corner_angle(a: DVec2, v: DVec2, b: DVec2) -> f64 {
+    let (x, y) = (a - v, b - v);
+    x.perp_dot(y).abs().atan2(x.dot(y)).to_degrees()
+}
+
+fn action_is_merge(el: &[QNode; 4]) -> bool {
+    el.iter().any(|q| matches!(q, QNode::Merged(_)))
+}
+
+fn distinct(ids: &[u32]) -> bool {
+    let mut v = ids.to_vec();
+    v.sort_unstable();
+    v.windows(2).all(|w| w[0] != w[1])
+}
+
+fn convex_ok(q: &[DVec2; 4]) -> bool {
+    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) && quad_angles(*q).iter().all(|&a| (3.0..=177.0).contains(&a))
+}
+
+/// How a chord leaving `v` in direction `d` splits the interior angle
+/// `theta` (deg) at `v`: the smaller part in degrees, or None if it leaves
+/// the domain.
+fn wedge_split(prev: DVec2, v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Option<f64> {
+    // a: the ccw turn from the direction to next round to d
+    let _ = prev;
+    let a = interior_angle(v + d, v, next).to_degrees();
+    if a <= 1.0 || a >= theta - 1.0 {
+        return None;
+    }
+    Some(a.min(theta - a))
+}

@@ -1,0 +1,231 @@
+//! Writers: Gmsh MSH 4.1 ASCII, legacy VTK, SVG and JSON, chosen by the
+//! file extension. Every file is written to a temporary name beside it and
+//! renamed only when all outputs of the run are written, so a failed run
+//! leaves no output.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::geometry::quad_angles;
+use crate::mesh::Mesh;
+
+/// An output format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Gmsh MSH 4.1, ASCII.
+    Msh,
+    /// Legacy VTK unstructured grid.
+    Vtk,
+    /// A picture.
+    Svg,
+    /// Nodes, quads and boundary edges as JSON.
+    Json,
+}
+
+/// An error writing outputs.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The extension names no known format.
+    #[error("{0}: unknown output format (use .msh, .vtk, .svg or .json)")]
+    UnknownFormat(String),
+    /// The file could not be written.
+    #[error("{path}: cannot write: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+impl Format {
+    /// The format of a path, by its extension.
+    pub fn from_path(path: &Path) -> Result<Format, OutputError> {
+        match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+            Some("msh") => Ok(Format::Msh),
+            Some("vtk") => Ok(Format::Vtk),
+            Some("svg") => Ok(Format::Svg),
+            Some("json") => Ok(Format::Json),
+            _ => Err(OutputError::UnknownFormat(path.display().to_string())),
+        }
+    }
+}
+
+/// Renders a mesh in a format.
+pub fn render(mesh: &Mesh, name: &str, format: Format) -> String {
+    match format {
+        Format::Msh => to_msh(mesh),
+        Format::Vtk => to_vtk(mesh, name),
+        Format::Svg => to_svg(mesh, &[], name),
+        Format::Json => to_json(mesh, name),
+    }
+}
+
+/// Writes several files all or nothing: temporaries first, then renames.
+pub fn write_all(files: &[(PathBuf, String)]) -> Result<(), OutputError> {
+    let mut temps = Vec::new();
+    for (path, text) in files {
+        let tmp = tmp_name(path);
+        if let Err(source) = std::fs::write(&tmp, text) {
+            for t in &temps {
+                let _ = std::fs::remove_file(t);
+            }
+            let _ = std::fs::remove_file(&tmp);
+            return Err(OutputError::Io { path: path.display().to_string(), source });
+        }
+        temps.push(tmp);
+    }
+    for ((path, _), tmp) in files.iter().zip(&temps) {
+        if let Err(source) = std::fs::rename(tmp, path) {
+            for t in &temps {
+                let _ = std::fs::remove_file(t);
+            }
+            return Err(OutputError::Io { path: path.display().to_string(), source });
+        }
+    }
+    Ok(())
+}
+
+fn tmp_name(path: &Path) -> PathBuf {
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(format!(".tmp-{}", std::process::id()));
+    path.with_file_name(name)
+}
+
+fn bbox(mesh: &Mesh) -> (f64, f64, f64, f64) {
+    let mut b = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in &mesh.nodes {
+        b = (b.0.min(p.x), b.1.min(p.y), b.2.max(p.x), b.3.max(p.y));
+    }
+    b
+}
+
+/// Gmsh MSH 4.1 ASCII: one surface entity (physical group "domain") with
+/// the quads (type 3), one curve entity per input loop and inner line with
+/// its boundary edges (type 1) in a physical group of its name.
+pub fn to_msh(mesh: &Mesh) -> String {
+    let mut s = String::with_capacity(64 * (mesh.nodes.len() + mesh.quads.len()));
+    let ng = mesh.groups.len();
+    let (x0, y0, x1, y1) = bbox(mesh);
+    s.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+    let _ = writeln!(s, "$PhysicalNames\n{}", ng + 1);
+    for (i, g) in mesh.groups.iter().enumerate() {
+        let _ = writeln!(s, "1 {} \"{}\"", i + 1, g);
+    }
+    let _ = writeln!(s, "2 {} \"domain\"\n$EndPhysicalNames", ng + 1);
+    let _ = writeln!(s, "$Entities\n0 {ng} 1 0");
+    for i in 0..ng {
+        let _ = writeln!(s, "{} {x0} {y0} 0 {x1} {y1} 0 1 {} 0", i + 1, i + 1);
+    }
+    let _ = writeln!(s, "1 {x0} {y0} 0 {x1} {y1} 0 1 {} 0\n$EndEntities", ng + 1);
+    let n = mesh.nodes.len();
+    let _ = writeln!(s, "$Nodes\n1 {n} 1 {n}\n2 1 0 {n}");
+    for i in 0..n {
+        let _ = writeln!(s, "{}", i + 1);
+    }
+    for p in &mesh.nodes {
+        let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
+    }
+    s.push_str("$EndNodes\n");
+    let mut by_group: Vec<Vec<(u32, u32)>> = vec![Vec::new(); ng];
+    for e in &mesh.boundary {
+        by_group[e.group as usize].push((e.a, e.b));
+    }
+    let blocks = by_group.iter().filter(|v| !v.is_empty()).count() + 1;
+    let total = mesh.boundary.len() + mesh.quads.len();
+    let _ = writeln!(s, "$Elements\n{blocks} {total} 1 {total}");
+    let mut tag = 1;
+    for (g, edges) in by_group.iter().enumerate() {
+        if edges.is_empty() {
+            continue;
+        }
+        let _ = writeln!(s, "1 {} 1 {}", g + 1, edges.len());
+        for (a, b) in edges {
+            let _ = writeln!(s, "{tag} {} {}", a + 1, b + 1);
+            tag += 1;
+        }
+    }
+    let _ = writeln!(s, "2 1 3 {}", mesh.quads.len());
+    for q in &mesh.quads {
+        let _ = writeln!(s, "{tag} {} {} {} {}", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        tag += 1;
+    }
+    s.push_str("$EndElements\n");
+    s
+}
+
+/// Legacy VTK (ASCII unstructured grid of quads, cell type 9).
+pub fn to_vtk(mesh: &Mesh, name: &str) -> String {
+    let mut s = String::with_capacity(48 * (mesh.nodes.len() + mesh.quads.len()));
+    let title: String = name.chars().filter(|c| *c != '\n').take(200).collect();
+    let _ = writeln!(s, "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double", mesh.nodes.len());
+    for p in &mesh.nodes {
+        let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
+    }
+    let nq = mesh.quads.len();
+    let _ = writeln!(s, "CELLS {nq} {}", nq * 5);
+    for q in &mesh.quads {
+        let _ = writeln!(s, "4 {} {} {} {}", q[0], q[1], q[2], q[3]);
+    }
+    let _ = writeln!(s, "CELL_TYPES {nq}");
+    for _ in 0..nq {
+        s.push_str("9\n");
+    }
+    s
+}
+
+/// An SVG picture: quads outlined, those with a corner outside [45, 135]
+/// filled red, input boundary drawn thick; `front` draws open loops (the
+/// REPL's current state) in blue.
+pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
+    let (x0, y0, x1, y1) = bbox(mesh);
+    let w = (x1 - x0).max(1e-12);
+    let h = (y1 - y0).max(1e-12);
+    let scale = 900.0 / w.max(h);
+    let (pw, ph) = (w * scale + 40.0, h * scale + 70.0);
+    let tx = |x: f64| (x - x0) * scale + 20.0;
+    let ty = |y: f64| (y1 - y) * scale + 50.0;
+    let stroke = (0.6f64).min(300.0 / (mesh.quads.len() as f64).sqrt().max(1.0));
+    let mut s = String::new();
+    let _ = writeln!(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{pw:.0}\" height=\"{ph:.0}\" viewBox=\"0 0 {pw:.1} {ph:.1}\">");
+    let _ = writeln!(s, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
+    let bad = (0..mesh.quads.len()).filter(|&i| quad_angles(mesh.quad_points(i)).iter().any(|a| !(45.0..=135.0).contains(a))).count();
+    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let _ = writeln!(s, "<text x=\"20\" y=\"30\" font-family=\"sans-serif\" font-size=\"16\">{}: {} quads, {} outside [45, 135] deg (red)</text>", esc(title), mesh.quads.len(), bad);
+    let _ = writeln!(s, "<g stroke=\"#222\" stroke-width=\"{stroke:.2}\" stroke-linejoin=\"round\">");
+    for i in 0..mesh.quads.len() {
+        let p = mesh.quad_points(i);
+        let fill = if quad_angles(p).iter().any(|a| !(45.0..=135.0).contains(a)) { "#f08080" } else { "#e8f0fa" };
+        let pts: Vec<String> = p.iter().map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y))).collect();
+        let _ = writeln!(s, "<polygon points=\"{}\" fill=\"{fill}\"/>", pts.join(" "));
+    }
+    s.push_str("</g>\n");
+    let _ = writeln!(s, "<g stroke=\"#000\" stroke-width=\"{:.2}\" fill=\"none\">", stroke * 3.0);
+    for e in &mesh.boundary {
+        let (a, b) = (mesh.nodes[e.a as usize], mesh.nodes[e.b as usize]);
+        let _ = writeln!(s, "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>", tx(a.x), ty(a.y), tx(b.x), ty(b.y));
+    }
+    s.push_str("</g>\n");
+    if !front.is_empty() {
+        let _ = writeln!(s, "<g stroke=\"#1060e0\" stroke-width=\"{:.2}\" fill=\"none\">", stroke * 3.0);
+        for lp in front {
+            let pts: Vec<String> = lp.iter().map(|&n| mesh.nodes[n as usize]).map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y))).collect();
+            let _ = writeln!(s, "<polygon points=\"{}\"/>", pts.join(" "));
+        }
+        s.push_str("</g>\n");
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// JSON: name, nodes, quads (0-based ids), boundary edges with groups.
+pub fn to_json(mesh: &Mesh, name: &str) -> String {
+    let v = serde_json::json!({
+        "name": name,
+        "nodes": mesh.nodes.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+        "quads": mesh.quads,
+        "boundary": mesh.boundary.iter().map(|e| serde_json::json!({"nodes": [e.a, e.b], "group": mesh.groups[e.group as usize]})).collect::<Vec<_>>(),
+        "groups": mesh.groups,
+    });
+    serde_json::to_string(&v).unwrap_or_default()
+}

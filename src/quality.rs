@@ -1,0 +1,114 @@
+//! Element quality, measured as the outside judge measures it: corner
+//! angles, scaled Jacobian, aspect ratio (ratio of the distances between
+//! midpoints of opposite edges), taper (larger ratio of opposite edge
+//! lengths), and the size jump between neighbours.
+
+use glam::DVec2;
+use std::collections::HashMap;
+
+use crate::geometry::quad_angles;
+use crate::mesh::Mesh;
+
+/// Quality figures of a quad mesh.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Quality {
+    /// Number of quads.
+    pub quads: usize,
+    /// Smallest corner angle (deg).
+    pub min_angle: f64,
+    /// Largest corner angle (deg).
+    pub max_angle: f64,
+    /// Share of quads with every angle in [45, 135], in percent.
+    pub pct_45_135: f64,
+    /// Smallest scaled Jacobian.
+    pub min_scaled_jacobian: f64,
+    /// Largest aspect ratio.
+    pub max_aspect: f64,
+    /// Largest taper.
+    pub max_taper: f64,
+    /// Largest size jump between neighbours: sqrt of their area ratio.
+    pub max_size_jump: f64,
+}
+
+/// Scaled Jacobian of a quad: the least, over its corners, of the sine of
+/// the corner angle (cross product of the unit edge vectors).
+pub fn scaled_jacobian(q: [DVec2; 4]) -> f64 {
+    (0..4)
+        .map(|i| {
+            let a = (q[(i + 1) % 4] - q[i]).normalize_or_zero();
+            let b = (q[(i + 3) % 4] - q[i]).normalize_or_zero();
+            a.perp_dot(b)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Aspect ratio and taper of a quad (both >= 1).
+pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
+    let e: Vec<f64> = (0..4).map(|i| (q[(i + 1) % 4] - q[i]).length()).collect();
+    let ratio = |a: f64, b: f64| if a.min(b) <= 0.0 { f64::INFINITY } else { a.max(b) / a.min(b) };
+    let taper = ratio(e[0], e[2]).max(ratio(e[1], e[3]));
+    let m02 = ((q[0] + q[1]) / 2.0 - (q[2] + q[3]) / 2.0).length();
+    let m13 = ((q[1] + q[2]) / 2.0 - (q[3] + q[0]) / 2.0).length();
+    (ratio(m02, m13), taper)
+}
+
+/// The quality figures of a mesh.
+pub fn measure(mesh: &Mesh) -> Quality {
+    let mut q = Quality { quads: mesh.quads.len(), min_angle: 180.0, max_angle: 0.0, pct_45_135: 0.0, min_scaled_jacobian: 1.0, max_aspect: 1.0, max_taper: 1.0, max_size_jump: 1.0 };
+    let mut good = 0usize;
+    let mut areas = Vec::with_capacity(mesh.quads.len());
+    for i in 0..mesh.quads.len() {
+        let p = mesh.quad_points(i);
+        let a = quad_angles(p);
+        let (lo, hi) = a.iter().fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+        q.min_angle = q.min_angle.min(lo);
+        q.max_angle = q.max_angle.max(hi);
+        if lo >= 45.0 && hi <= 135.0 {
+            good += 1;
+        }
+        q.min_scaled_jacobian = q.min_scaled_jacobian.min(scaled_jacobian(p));
+        let (asp, tap) = aspect_taper(p);
+        q.max_aspect = q.max_aspect.max(asp);
+        q.max_taper = q.max_taper.max(tap);
+        areas.push(crate::geometry::polygon_area(&p).abs());
+    }
+    if !mesh.quads.is_empty() {
+        q.pct_45_135 = 100.0 * good as f64 / mesh.quads.len() as f64;
+    }
+    let mut owner: HashMap<(u32, u32), u32> = HashMap::new();
+    for (qi, quad) in mesh.quads.iter().enumerate() {
+        for i in 0..4 {
+            let (a, b) = (quad[i], quad[(i + 1) % 4]);
+            let k = (a.min(b), a.max(b));
+            if let Some(&o) = owner.get(&k) {
+                let (x, y) = (areas[o as usize], areas[qi]);
+                if x > 0.0 && y > 0.0 {
+                    q.max_size_jump = q.max_size_jump.max((x.max(y) / x.min(y)).sqrt());
+                }
+            } else {
+                owner.insert(k, qi as u32);
+            }
+        }
+    }
+    q
+}
+
+/// A text histogram of corner angles in 10-degree bins.
+pub fn angle_histogram(mesh: &Mesh) -> String {
+    let mut bins = [0usize; 18];
+    for i in 0..mesh.quads.len() {
+        for a in quad_angles(mesh.quad_points(i)) {
+            bins[((a / 10.0) as usize).min(17)] += 1;
+        }
+    }
+    let max = *bins.iter().max().unwrap_or(&1).max(&1);
+    let mut s = String::new();
+    for (i, &b) in bins.iter().enumerate() {
+        if b == 0 && (i < 3 || i > 15) {
+            continue;
+        }
+        let bar = "#".repeat((b * 50).div_ceil(max));
+        s.push_str(&format!("{:>3}-{:<3} {:>8} {}\n", i * 10, i * 10 + 10, b, bar));
+    }
+    s
+}

@@ -1,0 +1,104 @@
+//! Laplace smoothing (Eq. 4), guarded so that it never spoils an element.
+//!
+//! Each free node moves to the mean, over the elements round it, of its two
+//! neighbours in each element: X_i = 1/(2 N_i) Σ (X_nj + X_ni). A move is
+//! kept only if every element round the node stays convex and its worst
+//! corner gets no worse than a bound; input boundary nodes never move.
+
+use glam::DVec2;
+
+use crate::geometry::{orient2d, quad_angles};
+use crate::mesh::{Mesh, NodeKind};
+
+/// For each node, the elements that use it and the node's corner index.
+pub fn node_elements(mesh: &Mesh) -> Vec<Vec<(u32, u8)>> {
+    let mut out = vec![Vec::new(); mesh.nodes.len()];
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for (c, &n) in q.iter().enumerate() {
+            out[n as usize].push((qi as u32, c as u8));
+        }
+    }
+    out
+}
+
+/// How far an element's worst corner is from the [45, 135] window
+/// (degrees; 0 inside it), or infinity if the element is not convex.
+fn badness(q: [DVec2; 4]) -> f64 {
+    for i in 0..4 {
+        if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
+            return f64::INFINITY;
+        }
+    }
+    quad_angles(q).iter().map(|&a| (45.0 - a).max(a - 135.0).max(0.0)).fold(0.0, f64::max)
+}
+
+/// `passes` sweeps of guarded Laplace smoothing; returns how many moves
+/// were kept in the last sweep.
+pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
+    let around = node_elements(mesh);
+    let mut kept = 0;
+    for _ in 0..passes {
+        kept = 0;
+        for n in 0..mesh.nodes.len() {
+            if mesh.kinds[n] != NodeKind::Interior || around[n].is_empty() {
+                continue;
+            }
+            // Eq. 4: the two neighbours of n in each of its elements
+            let mut sum = DVec2::ZERO;
+            for &(q, c) in &around[n] {
+                let quad = mesh.quads[q as usize];
+                sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize] + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
+            }
+            let target = sum / (2.0 * around[n].len() as f64);
+            let old = mesh.nodes[n];
+            if (target - old).length_squared() == 0.0 {
+                continue;
+            }
+            let before = around[n].iter().map(|&(q, _)| badness(mesh.quad_points(q as usize))).fold(0.0, f64::max);
+            // try the full move, then half of it
+            for t in [1.0, 0.5] {
+                mesh.nodes[n] = old + (target - old) * t;
+                let after = around[n].iter().map(|&(q, _)| badness(mesh.quad_points(q as usize))).fold(0.0, f64::max);
+                if after.is_finite() && after <= before.max(0.0) + 1e-9 {
+                    kept += 1;
+                    break;
+                }
+                mesh.nodes[n] = old;
+            }
+        }
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_node_of_a_two_by_two_block_moves_to_the_middle() {
+        let mut m = Mesh::default();
+        for y in 0..3 {
+            for x in 0..3 {
+                let kind = if x == 1 && y == 1 { NodeKind::Interior } else { NodeKind::Boundary };
+                m.add_node(DVec2::new(x as f64, y as f64), kind);
+            }
+        }
+        m.nodes[4] = DVec2::new(1.3, 0.8);
+        m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+        laplace(&mut m, 20);
+        assert!((m.nodes[4] - DVec2::new(1.0, 1.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn boundary_nodes_never_move() {
+        let mut m = Mesh::default();
+        m.add_node(DVec2::ZERO, NodeKind::Boundary);
+        m.add_node(DVec2::X, NodeKind::Boundary);
+        m.add_node(DVec2::new(1.0, 1.0), NodeKind::Boundary);
+        m.add_node(DVec2::new(0.2, 0.9), NodeKind::Boundary);
+        m.quads = vec![[0, 1, 2, 3]];
+        let before = m.nodes.clone();
+        laplace(&mut m, 5);
+        assert_eq!(m.nodes, before);
+    }
+}

@@ -1,0 +1,33 @@
+//! The inference trace: one record per element made (and per fallback
+//! split), written as JSON Lines.
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// One step of the inference.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct TraceStep {
+    /// Step number, from 1.
+    pub step: usize,
+    /// The front edge acted on (N1, N2), node ids.
+    pub edge: [u32; 2],
+    /// Interior angles seen (degrees, rounded as the KB saw them):
+    /// theta7, theta4, theta1, theta2, theta5; for final patterns a1..a6.
+    pub angles: BTreeMap<String, f64>,
+    /// The feature the KB recognised (b1..b5, a user's feature, `final4`,
+    /// `final6`, or `stuck` for a fallback split).
+    pub feature: String,
+    /// The action, as the KB stated it (after redesign).
+    pub action: String,
+    /// The redesign rules that fired, in order.
+    pub redesign: Vec<String>,
+    /// The element's four node ids (counter-clockwise); empty for a split.
+    pub element: Vec<u32>,
+}
+
+impl TraceStep {
+    /// One line of JSON.
+    pub fn to_json_line(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
+    }
+}
