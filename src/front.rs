@@ -141,6 +141,11 @@ impl Front {
         v
     }
 
+    /// The live occurrences touched by the current transaction.
+    pub fn touched_live(&self) -> Vec<Fv> {
+        self.touched.iter().copied().filter(|&fv| self.occ[fv as usize].alive).collect()
+    }
+
     /// Occurrences changed since the last call (for re-classification).
     pub fn take_touched(&mut self) -> Vec<Fv> {
         std::mem::take(&mut self.touched)

@@ -118,6 +118,9 @@ pub struct Mesher<'k> {
 }
 
 const NOT_FAILED: u32 = u32::MAX;
+/// No element may leave the remaining domain a sharper corner than this
+/// (deg): a spike cannot be meshed.
+const MIN_FRONT_ANGLE: f64 = 12.0;
 
 fn deg_round(x: f64) -> f64 {
     x.round()
@@ -295,7 +298,7 @@ impl<'k> Mesher<'k> {
                     changed = true;
                     continue;
                 }
-                if self.fallback_split(l)? {
+                if self.fallback_split(l)? || self.close_ring(l) {
                     changed = true;
                 }
             }
@@ -433,7 +436,7 @@ impl<'k> Mesher<'k> {
         // when it matters), and what the remaining domain keeps
         let qa: [f64; 4] = std::array::from_fn(|i| corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]));
         let th = |fv: Fv| self.front.angle(fv, &self.mesh.nodes);
-        let mut small = |rel: &mut Vec<String>, what: &str, name: &str, deg: f64| {
+        let small = |rel: &mut Vec<String>, what: &str, name: &str, deg: f64| {
             if deg < 90.0 {
                 rel.push(format!("{what}({name}, {})", f(deg_round(deg))));
             }
@@ -622,7 +625,7 @@ impl<'k> Mesher<'k> {
     fn commit_element(&mut self, el: &[QNode; 4], lab: &Labels, action: &Action) -> Result<Option<[u32; 4]>, MeshError> {
         let nodes_before = self.mesh.nodes.len();
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2)) + 1;
-        let mut id = |q: QNode, mesh: &mut Mesh, front: &Front| -> u32 {
+        let id = |q: QNode, mesh: &mut Mesh, front: &Front| -> u32 {
             match q {
                 QNode::Front(fv) | QNode::Merged(fv) => front.node(fv),
                 QNode::New(p) => mesh.add_node(p, NodeKind::Interior),
@@ -665,6 +668,9 @@ impl<'k> Mesher<'k> {
                     ok = false;
                 }
             }
+            // no spike: the remaining domain keeps a usable angle at every
+            // occurrence the element touched
+            ok = ok && self.front.touched_live().iter().all(|&fv| self.front.angle(fv, &self.mesh.nodes) > MIN_FRONT_ANGLE);
         }
         if !ok {
             self.front.rollback();
@@ -758,7 +764,11 @@ impl<'k> Mesher<'k> {
                         (3.0 * p[at(2)] + 3.0 * p[at(4)] + p[at(1)] + p[at(5)]) / 8.0
                     };
                     // 6 stands for the new node
-                    (vec![[at(0), at(1), 6, at(5)], [at(1), at(2), at(3), 6], [at(3), at(4), at(5), 6]], vec![c])
+                    let quads = vec![[at(0), at(1), 6, at(5)], [at(1), at(2), at(3), 6], [at(3), at(4), at(5), 6]];
+                    // where Eq. 5/6 gives a bad element, the builtin moves the
+                    // node to the best place it finds in the loop
+                    let c = best_centre(&p, &quads, c);
+                    (quads, vec![c])
                 }
                 _ => continue,
             };
@@ -802,9 +812,14 @@ impl<'k> Mesher<'k> {
     /// Sluiter et al., the paper's refs. 11, 23, 27); a non-convex loop of
     /// four is closed by a ring of four elements round a fifth.
     fn fallback_split(&mut self, l: u32) -> Result<bool, MeshError> {
+        // a clear chord first; a tight one if there is none
+        Ok(self.chord_split(l, 1.0)? || self.chord_split(l, 0.2)?)
+    }
+
+    fn chord_split(&mut self, l: u32, clearance: f64) -> Result<bool, MeshError> {
         let n = self.front.loop_len(l);
         if n == 4 {
-            return Ok(self.close_ring(l));
+            return Ok(false);
         }
         let fvs = self.front.loop_fvs(l);
         let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
@@ -845,11 +860,21 @@ impl<'k> Mesher<'k> {
                         continue;
                     }
                 }
+                // a part of four segments is one element: the chord must be
+                // a single edge and the element convex
+                let quad_part = |from: usize, to: usize| -> bool {
+                    let q = [p[from % n], p[(from + 1) % n], p[(from + 2) % n], p[(from + 3) % n]];
+                    let _ = to;
+                    convex_ok(&q)
+                };
+                if (gap + k == 4 && (k != 1 || !quad_part(i, j))) || (n - gap + k == 4 && (k != 1 || !quad_part(j, i))) {
+                    continue;
+                }
                 let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs() + 10.0 * (gap.min(n - gap) as f64 / n as f64);
                 if best.is_some_and(|b| score <= b.0) {
                     continue;
                 }
-                if !self.chord_clear(p[i], p[j], ids[i], ids[j], h) {
+                if !self.chord_clear(p[i], p[j], ids[i], ids[j], h * clearance) {
                     continue;
                 }
                 best = Some((score, i, j, k));
@@ -914,42 +939,129 @@ impl<'k> Mesher<'k> {
         ok
     }
 
-    /// A non-convex loop of four: an inner element and a ring of four.
+    /// The last resort for a loop the rules and chords cannot mesh: a
+    /// ring of n elements round a new convex loop of n nodes on a circle
+    /// about a centre that sees every node of the loop. The inner loop is
+    /// convex whatever the loop's shape, so the final patterns or a chord
+    /// close it.
     fn close_ring(&mut self, l: u32) -> bool {
         let fvs = self.front.loop_fvs(l);
+        let n = fvs.len();
         let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
-        if !distinct(&ids) {
+        if !distinct(&ids) || n > 8 {
             return false;
         }
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
-        // Centres to try: the vertex centroid and points on both diagonals
-        // (a dart's kernel lies by its reflex corner). The inner element's
-        // corners lie on a circle round the centre, towards each corner, so
-        // it is convex whatever the loop's shape.
-        let mut centres = vec![(p[0] + p[1] + p[2] + p[3]) / 4.0];
-        for (a, b) in [(0usize, 2usize), (1, 3), (2, 0), (3, 1)] {
-            for t in [0.3, 0.5] {
-                centres.push(p[a] + (p[b] - p[a]) * t);
-            }
-        }
-        for c in centres {
+        // The centre and radius: the best of a grid over the loop's box,
+        // judged by the smallest angle of the ring's elements.
+        let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
             let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
-            for t in [0.45, 0.3, 0.6] {
-                let inner: Vec<DVec2> = p.iter().map(|&x| c + (x - c).normalize_or_zero() * rmax * t).collect();
-                let mut quads: Vec<[DVec2; 4]> = (0..4).map(|i| [p[i], p[(i + 1) % 4], inner[(i + 1) % 4], inner[i]]).collect();
-                quads.push([inner[0], inner[1], inner[2], inner[3]]);
-                if quads.iter().all(convex_ok) {
-                    let base = self.mesh.nodes.len() as u32;
-                    let mut qs: Vec<[u32; 4]> = (0..4).map(|i| [ids[i], ids[(i + 1) % 4], base + ((i + 1) % 4) as u32, base + i as u32]).collect();
-                    qs.push([base, base + 1, base + 2, base + 3]);
-                    self.stats.fallback_splits += 1;
-                    self.close_with(l, qs, &inner, "stuck", "ring".into(), BTreeMap::new());
-                    return true;
+            if rmax <= 0.0 {
+                return None;
+            }
+            let inner: Vec<DVec2> = p.iter().map(|&x| c + (x - c).normalize_or_zero() * rmax * t).collect();
+            if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
+                return None;
+            }
+            let mut worst = f64::MAX;
+            for i in 0..n {
+                let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
+                if !convex_ok(&q) {
+                    return None;
+                }
+                worst = worst.min(quad_angles(q).iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
+            }
+            Some((worst, inner))
+        };
+        let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
+        let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+        let mut best: Option<(f64, Vec<DVec2>)> = None;
+        let steps = 48;
+        for ix in 1..steps {
+            for iy in 1..steps {
+                let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
+                for t in [0.25, 0.5, 0.75] {
+                    if let Some(r) = ring(c, t) {
+                        if best.as_ref().is_none_or(|b| r.0 > b.0) {
+                            best = Some(r);
+                        }
+                    }
                 }
             }
         }
+        if let Some((_, inner)) = best {
+            let base = self.mesh.nodes.len() as u32;
+            for &x in &inner {
+                self.mesh.add_node(x, NodeKind::Interior);
+            }
+            let qs: Vec<[u32; 4]> = (0..n).map(|i| [ids[i], ids[(i + 1) % n], base + ((i + 1) % n) as u32, base + i as u32]).collect();
+            let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
+            self.stats.fallback_splits += 1;
+            let layer = self.front.layer(fvs[0]) + 1;
+            self.close_with(l, qs, &[], "stuck", "ring".into(), BTreeMap::new());
+            self.front.begin();
+            let nl = self.front.add_loop(&inner_ids, &vec![layer; n]);
+            self.front.commit(&self.mesh.nodes);
+            self.ensure_capacity();
+            let _ = self.try_close_loop(nl);
+            return true;
+        }
         false
     }
+}
+
+/// The position of an inner node (index 6 in `quads`) that makes the
+/// elements convex with the largest smallest angle: `first` if it is good,
+/// else the best of a grid over the loop's bounding box.
+fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
+    let score = |c: DVec2| -> f64 {
+        let pt = |i: usize| if i < p.len() { p[i] } else { c };
+        quads
+            .iter()
+            .map(|q| {
+                let qp = q.map(pt);
+                if (0..4).any(|i| orient2d(qp[i], qp[(i + 1) % 4], qp[(i + 2) % 4]) <= 0.0) {
+                    return -1.0;
+                }
+                let a = quad_angles(qp);
+                a.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min)
+            })
+            .fold(f64::MAX, f64::min)
+    };
+    let mut best = (score(first), first);
+    if best.0 >= 30.0 {
+        return first;
+    }
+    let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
+    let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+    let steps = 24;
+    for ix in 1..steps {
+        for iy in 1..steps {
+            let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
+            let sc = score(c);
+            if sc > best.0 {
+                best = (sc, c);
+            }
+        }
+    }
+    best.1
+}
+
+/// The area centroid of a simple polygon (vertex mean if degenerate).
+fn polygon_centroid(p: &[DVec2]) -> DVec2 {
+    let n = p.len();
+    let mut a = 0.0;
+    let mut c = DVec2::ZERO;
+    for i in 0..n {
+        let (u, v) = (p[i], p[(i + 1) % n]);
+        let w = u.perp_dot(v);
+        a += w;
+        c += (u + v) * w;
+    }
+    if a.abs() < 1e-300 {
+        return p.iter().copied().sum::<DVec2>() / n as f64;
+    }
+    c / (3.0 * a)
 }
 
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
@@ -969,7 +1081,7 @@ fn distinct(ids: &[u32]) -> bool {
 }
 
 fn convex_ok(q: &[DVec2; 4]) -> bool {
-    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) && quad_angles(*q).iter().all(|&a| (3.0..=177.0).contains(&a))
+    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) && quad_angles(*q).iter().all(|&a| (1.0..=179.0).contains(&a))
 }
 
 /// How a chord leaving `v` in direction `d` splits the interior angle
@@ -983,4 +1095,25 @@ fn wedge_split(prev: DVec2, v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Opti
         return None;
     }
     Some(a.min(theta - a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn z_shaped_six_loop_splits_by_a_chord() {
+        let pts = [(540.02, 802.49), (511.33, 801.06), (488.95, 838.29), (533.6, 838.29), (511.23, 875.53), (535.24, 875.53)];
+        let mut mesh = Mesh::default();
+        for (x, y) in pts {
+            mesh.add_node(DVec2::new(x, -y), NodeKind::Boundary);
+        }
+        let disc = Discretised { mesh, front_loop: vec![0, 1, 2, 3, 4, 5], cuts: vec![] };
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let mut m = Mesher::new(&mut kb, disc, 30.0, 1000.0).unwrap();
+        let r = m.run(&mut |_| {});
+        for t in &m.trace { eprintln!("{}", t.to_json_line()); }
+        r.unwrap();
+        assert!(m.mesh.quads.len() >= 3);
+    }
 }
