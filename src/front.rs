@@ -421,6 +421,38 @@ impl Front {
         out
     }
 
+    /// Joins two loops that touch: `u` and `v` are occurrences of the same
+    /// node on different loops; afterwards one loop runs through both.
+    /// Returns the loop that remains.
+    pub fn join_pinch(&mut self, u: Fv, v: Fv) -> u32 {
+        let (lu, lv) = (self.occ[u as usize].lp, self.occ[v as usize].lp);
+        let un = self.occ[u as usize].next;
+        let vn = self.occ[v as usize].next;
+        self.save(u);
+        self.save(v);
+        self.save(un);
+        self.save(vn);
+        self.occ[u as usize].next = vn;
+        self.occ[vn as usize].prev = u;
+        self.occ[v as usize].next = un;
+        self.occ[un as usize].prev = v;
+        let mut fv = v;
+        loop {
+            self.save(fv);
+            self.occ[fv as usize].lp = lu;
+            fv = self.occ[fv as usize].next;
+            if fv == v {
+                break;
+            }
+        }
+        self.save_loop(lu);
+        self.save_loop(lv);
+        self.loops[lu as usize].len += self.loops[lv as usize].len;
+        self.loops[lv as usize].alive = false;
+        self.loops[lv as usize].len = 0;
+        lu
+    }
+
     /// Removes a loop from the front (closed by elements).
     pub fn close_loop(&mut self, l: u32) {
         let fvs = self.loop_fvs(l);

@@ -133,7 +133,7 @@ pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, prog
             let _ = std::fs::write(&path, output::to_svg(&m.mesh, &loops, "stopped"));
             let la: f64 = loops.iter().map(|l| geometry::polygon_area(&l.iter().map(|&n| m.mesh.nodes[n as usize]).collect::<Vec<_>>())).sum();
             eprintln!("DEBUG: quads area {} + loops area {} = {} vs domain {}; loops {:?}", m.mesh.area(), la, m.mesh.area() + la, area, loops);
-            for l in &loops { if l.len() <= 8 { eprintln!("DEBUG loop {:?}", l.iter().map(|&n| (m.mesh.nodes[n as usize].x, m.mesh.nodes[n as usize].y)).collect::<Vec<_>>()); } }
+            for l in &loops { if l.len() <= 8 { eprintln!("DEBUG loop {:?} {:?}", l, l.iter().map(|&n| (m.mesh.nodes[n as usize].x, m.mesh.nodes[n as usize].y)).collect::<Vec<_>>()); } }
             let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
             let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
         }

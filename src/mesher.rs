@@ -52,6 +52,8 @@ pub struct MeshStats {
     pub redesigns: usize,
     /// Merges of a new corner with a front node (fronts meeting).
     pub merges: usize,
+    /// Elements taken back to give a stuck loop room.
+    pub unmeshed: usize,
 }
 
 /// Settings read from the KB once per run.
@@ -115,6 +117,11 @@ pub struct Mesher<'k> {
     size: f64,
     max_elements: usize,
     scratch: Vec<Fv>,
+    pops: u64,
+    /// Loops the design rules gave up on: only the fallback works on them
+    /// (and on the loops split from them), so the rules cannot remesh a
+    /// region they already failed in.
+    fallback_only: std::collections::HashSet<u32>,
 }
 
 const NOT_FAILED: u32 = u32::MAX;
@@ -150,6 +157,8 @@ impl<'k> Mesher<'k> {
             size,
             max_elements: (estimate * 20.0) as usize + 1000,
             scratch: Vec::new(),
+            pops: 0,
+            fallback_only: Default::default(),
         })
     }
 
@@ -211,7 +220,7 @@ impl<'k> Mesher<'k> {
         let mirrored = key % 2 == 1;
         self.version[key as usize] += 1;
         self.design[key as usize] = None;
-        if !self.front.alive(fv) || self.front.loop_len(self.front.loop_of(fv)) <= 6 {
+        if !self.front.alive(fv) || self.front.loop_len(self.front.loop_of(fv)) <= 6 || self.fallback_only.contains(&self.front.loop_of(fv)) {
             return Ok(());
         }
         let lab = self.labels(fv, mirrored);
@@ -278,11 +287,15 @@ impl<'k> Mesher<'k> {
                 if !self.front.alive(fv) {
                     continue;
                 }
-                if self.mesh.quads.len() > self.max_elements {
+                if self.mesh.quads.len() > self.max_elements || std::env::var("FREEMESH_DEBUG_MAX").ok().and_then(|v| v.parse::<usize>().ok()).is_some_and(|m| self.mesh.quads.len() > m) {
                     return Err(MeshError::Runaway(self.mesh.quads.len()));
                 }
                 if !self.try_design(c.key)? {
                     self.failed[c.key as usize] = c.version;
+                }
+                self.pops += 1;
+                if self.pops % 500 == 0 && std::env::var("FREEMESH_DEBUG_SVG").is_ok() {
+                    eprintln!("DEBUG pops {} quads {} loops {} heap {}", self.pops, self.mesh.quads.len(), self.front.live_loops().len(), self.heap.len());
                 }
                 progress(self.mesh.quads.len());
             }
@@ -298,7 +311,7 @@ impl<'k> Mesher<'k> {
                     changed = true;
                     continue;
                 }
-                if self.fallback_split(l)? || self.close_ring(l) {
+                if self.fallback_split(l)? {
                     changed = true;
                 }
             }
@@ -379,8 +392,15 @@ impl<'k> Mesher<'k> {
         if angs.iter().any(|&a| !(4.0..=176.0).contains(&a)) {
             return false;
         }
-        let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
-        let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+        // No sliver: every edge at least a quarter of the base edge, so a
+        // rule that keeps shrinking an element cannot run away.
+        let base = (self.qpos(q[1]) - self.qpos(q[0])).length();
+        if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < 0.25 * base) {
+            return false;
+        }
+        let pad = DVec2::splat(0.15 * base);
+        let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b)) - pad;
+        let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b)) + pad;
         let mut near = std::mem::take(&mut self.scratch);
         self.front.edges_near(lo, hi, &mut near);
         let is_quad_node = |n: u32| ids.contains(&Some(n));
@@ -392,6 +412,26 @@ impl<'k> Mesher<'k> {
             if !is_quad_node(na) && (0..4).all(|i| orient2d(p[i], p[(i + 1) % 4], a) > 0.0) {
                 ok = false;
                 break;
+            }
+            // no sliver left between the element and the front: a new
+            // corner keeps off front edges, a front node off new edges
+            let gap = 0.15 * base;
+            if !is_quad_node(na) && !is_quad_node(nb) {
+                for i in 0..4 {
+                    if ids[i].is_none() && crate::geometry::point_segment_distance(p[i], a, b) < gap {
+                        ok = false;
+                        break 'edges;
+                    }
+                }
+            }
+            if !is_quad_node(na) {
+                for i in 0..4 {
+                    let new_edge = ids[i].is_none() || ids[(i + 1) % 4].is_none();
+                    if new_edge && crate::geometry::point_segment_distance(a, p[i], p[(i + 1) % 4]) < gap {
+                        ok = false;
+                        break 'edges;
+                    }
+                }
             }
             for i in 0..4 {
                 let (qa, qb) = (ids[i], ids[(i + 1) % 4]);
@@ -812,11 +852,23 @@ impl<'k> Mesher<'k> {
     /// Sluiter et al., the paper's refs. 11, 23, 27); a non-convex loop of
     /// four is closed by a ring of four elements round a fifth.
     fn fallback_split(&mut self, l: u32) -> Result<bool, MeshError> {
-        // a clear chord first; a tight one if there is none
-        Ok(self.chord_split(l, 1.0)? || self.chord_split(l, 0.2)?)
+        // a clear chord first, a tight one if there is none, then the ring;
+        // last, any chord at all (bounded: it may not shrink the loop)
+        if self.chord_split(l, 1.0, true)? || self.chord_split(l, 0.2, true)? || self.close_ring(l) {
+            return Ok(true);
+        }
+        // Give the loop room: take back the elements along it, so the
+        // enlarged loop has a better shape for the next try.
+        if self.stats.unmeshed < self.max_elements / 4 && self.unmesh_layer(l)? {
+            return Ok(true);
+        }
+        if self.stats.fallback_splits < self.max_elements / 4 {
+            return self.chord_split(l, 0.05, false);
+        }
+        Ok(false)
     }
 
-    fn chord_split(&mut self, l: u32, clearance: f64) -> Result<bool, MeshError> {
+    fn chord_split(&mut self, l: u32, clearance: f64, strict: bool) -> Result<bool, MeshError> {
         let n = self.front.loop_len(l);
         if n == 4 {
             return Ok(false);
@@ -840,9 +892,13 @@ impl<'k> Mesher<'k> {
                     continue;
                 }
                 // inside the wedges at both ends
+                let min_split = if strict { 15.0 } else { 5.0 };
                 let (Some(si), Some(sj)) = (wedge_split(p[(i + n - 1) % n], p[i], p[(i + 1) % n], d, theta[i]), wedge_split(p[(j + n - 1) % n], p[j], p[(j + 1) % n], -d, theta[j])) else {
                     continue;
                 };
+                if si < min_split || sj < min_split {
+                    continue;
+                }
                 let h = (elen[i] + elen[(i + n - 1) % n] + elen[j] + elen[(j + n - 1) % n]) / 4.0;
                 let t = len / h;
                 let parity = gap % 2;
@@ -867,7 +923,7 @@ impl<'k> Mesher<'k> {
                     let _ = to;
                     convex_ok(&q)
                 };
-                if (gap + k == 4 && (k != 1 || !quad_part(i, j))) || (n - gap + k == 4 && (k != 1 || !quad_part(j, i))) {
+                if strict && ((gap + k == 4 && (k != 1 || !quad_part(i, j))) || (n - gap + k == 4 && (k != 1 || !quad_part(j, i))) || k >= gap || k >= n - gap) {
                     continue;
                 }
                 let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs() + 10.0 * (gap.min(n - gap) as f64 / n as f64);
@@ -890,7 +946,10 @@ impl<'k> Mesher<'k> {
         self.front.begin();
         let layer = self.front.layer(fvs[i]).max(self.front.layer(fvs[j]));
         let made = self.front.replace_path(fvs[i], self.front.next(fvs[i]), &path, layer);
-        self.front.split_pinch(made[k - 1], fvs[j]);
+        let parts = self.front.split_pinch(made[k - 1], fvs[j]);
+        if self.fallback_only.contains(&l) {
+            self.fallback_only.extend(parts);
+        }
         self.front.commit(&self.mesh.nodes);
         self.stats.fallback_splits += 1;
         let step = self.trace.len() + 1;
@@ -913,6 +972,85 @@ impl<'k> Mesher<'k> {
         Ok(true)
     }
 
+    /// Takes back every element that shares an edge with loop `l`; the
+    /// loop grows round them. False if there is none.
+    fn unmesh_layer(&mut self, l: u32) -> Result<bool, MeshError> {
+        let mut owner: HashMap<(u32, u32), usize> = HashMap::new();
+        for (qi, q) in self.mesh.quads.iter().enumerate() {
+            for i in 0..4 {
+                owner.insert((q[i], q[(i + 1) % 4]), qi);
+            }
+        }
+        let mut victims: Vec<usize> = self.front.loop_fvs(l).iter().filter_map(|&fv| owner.get(&(self.front.node(self.front.next(fv)), self.front.node(fv))).copied()).collect();
+        victims.sort_unstable();
+        victims.dedup();
+        if victims.is_empty() {
+            return Ok(false);
+        }
+        let mut removed = Vec::new();
+        for &qi in &victims {
+            let q = self.mesh.quads[qi];
+            // a front edge a->b that the element runs b->a
+            let mut found = None;
+            for i in 0..4 {
+                let (b, a) = (q[i], q[(i + 1) % 4]);
+                if let Some(fa) = self.front.occurrences(a).find(|&fa| self.front.node(self.front.next(fa)) == b) {
+                    found = Some((i, fa));
+                    break;
+                }
+            }
+            let Some((i, fa)) = found else { continue };
+            let fb = self.front.next(fa);
+            let x = q[(i + 2) % 4];
+            let y = q[(i + 3) % 4];
+            self.front.begin();
+            let layer = self.front.layer(fa);
+            let made = self.front.replace_path(fa, fb, &[x, y], layer);
+            for m in made {
+                let node = self.front.node(m);
+                let others: Vec<Fv> = self.front.occurrences(node).filter(|&o| o != m).collect();
+                for o in others {
+                    if !self.front.alive(o) || !self.front.alive(m) {
+                        continue;
+                    }
+                    if self.front.loop_of(o) == self.front.loop_of(m) {
+                        let before = self.front.loop_of(m);
+                        let total = self.front.loop_len(before);
+                        let _ = total;
+                        self.front.split_pinch(m, o);
+                    } else {
+                        self.front.join_pinch(m, o);
+                    }
+                }
+            }
+            if self.front.touched_loops().iter().any(|&t| self.front.loop_len(t) % 2 == 1) {
+                self.front.rollback();
+                continue;
+            }
+            self.front.commit(&self.mesh.nodes);
+            removed.push(qi);
+        }
+        if removed.is_empty() {
+            return Ok(false);
+        }
+        removed.sort_unstable();
+        for &qi in removed.iter().rev() {
+            let q = self.mesh.quads.swap_remove(qi);
+            self.stats.unmeshed += 1;
+            let step = self.trace.len() + 1;
+            self.trace.push(TraceStep { step, edge: [q[0], q[1]], angles: BTreeMap::new(), feature: "stuck".into(), action: "unmesh".into(), redesign: vec![], element: q.to_vec() });
+        }
+        let touched = self.front.take_touched();
+        for &t in &touched {
+            if self.front.alive(t) {
+                self.fallback_only.insert(self.front.loop_of(t));
+            }
+        }
+        self.ensure_capacity();
+        self.refresh(&touched)?;
+        Ok(true)
+    }
+
     /// True iff the chord crosses no front edge and passes no front node
     /// closer than a fifth of the local size.
     fn chord_clear(&mut self, a: DVec2, b: DVec2, na: u32, nb: u32, h: f64) -> bool {
@@ -927,10 +1065,16 @@ impl<'k> Mesher<'k> {
                 ok = false;
                 break;
             }
+            let rel = segments_intersect(a, b, px, py);
             if x == na || x == nb || y == na || y == nb {
+                // sharing an end is fine; lying along the chord is not
+                if rel == SegmentRelation::Overlap || (x == na && y == nb) || (x == nb && y == na) {
+                    ok = false;
+                    break;
+                }
                 continue;
             }
-            if segments_intersect(a, b, px, py) != SegmentRelation::Disjoint {
+            if rel != SegmentRelation::Disjoint {
                 ok = false;
                 break;
             }
@@ -948,7 +1092,7 @@ impl<'k> Mesher<'k> {
         let fvs = self.front.loop_fvs(l);
         let n = fvs.len();
         let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
-        if !distinct(&ids) || n > 8 {
+        if !distinct(&ids) || n > 12 {
             return false;
         }
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
