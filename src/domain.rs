@@ -419,7 +419,7 @@ impl Domain {
             }
         }
         let cell = (scale / (segs.len() as f64).sqrt().max(1.0)).max(1e-12);
-        let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+        let mut grid: std::collections::BTreeMap<(i64, i64), Vec<usize>> = std::collections::BTreeMap::new();
         for (k, s) in segs.iter().enumerate() {
             let lo = s.2.min(s.3);
             let hi = s.2.max(s.3);

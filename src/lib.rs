@@ -131,16 +131,21 @@ pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, prog
         if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
             let loops: Vec<Vec<u32>> = m.front.live_loops().iter().map(|&l| m.front.loop_fvs(l).iter().map(|&f| m.front.node(f)).collect()).collect();
             let _ = std::fs::write(&path, output::to_svg(&m.mesh, &loops, "stopped"));
-            let la: f64 = loops.iter().map(|l| geometry::polygon_area(&l.iter().map(|&n| m.mesh.nodes[n as usize]).collect::<Vec<_>>())).sum();
-            eprintln!("DEBUG: quads area {} + loops area {} = {} vs domain {}; loops {:?}", m.mesh.area(), la, m.mesh.area() + la, area, loops);
-            for l in &loops { if l.len() <= 8 { eprintln!("DEBUG loop {:?} {:?}", l, l.iter().map(|&n| (m.mesh.nodes[n as usize].x, m.mesh.nodes[n as usize].y)).collect::<Vec<_>>()); } }
             let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
             let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
         }
         return Err(e.into());
     }
     let mut mesh = std::mem::take(&mut m.mesh);
-    let trace = std::mem::take(&mut m.trace);
+    let mut trace = std::mem::take(&mut m.trace);
+    let map = mesh.compact();
+    let remap = |x: i64| map.get(x as usize).copied().flatten().map_or(-1, |n| n as i64);
+    for t in &mut trace {
+        t.edge = t.edge.map(remap);
+        for n in &mut t.element {
+            *n = remap(*n);
+        }
+    }
     let stats = m.stats;
     smoothing::laplace(&mut mesh, opts.smoothing_passes);
     check::check_mesh(&mesh, area)?;

@@ -52,6 +52,40 @@ impl Mesh {
         self.quads[q].map(|n| self.nodes[n as usize])
     }
 
+    /// Drops nodes no element uses (left when a stuck region was taken
+    /// back) and renumbers the rest; returns the new id of each old node.
+    pub fn compact(&mut self) -> Vec<Option<u32>> {
+        let mut used = vec![false; self.nodes.len()];
+        for q in &self.quads {
+            for &n in q {
+                used[n as usize] = true;
+            }
+        }
+        let mut map = vec![None; self.nodes.len()];
+        let mut next = 0u32;
+        for (i, u) in used.iter().enumerate() {
+            if *u {
+                map[i] = Some(next);
+                self.nodes[next as usize] = self.nodes[i];
+                self.kinds[next as usize] = self.kinds[i];
+                next += 1;
+            }
+        }
+        self.nodes.truncate(next as usize);
+        self.kinds.truncate(next as usize);
+        for q in &mut self.quads {
+            for n in q.iter_mut() {
+                *n = map[*n as usize].expect("a node of an element is used");
+            }
+        }
+        self.boundary.retain(|e| map[e.a as usize].is_some() && map[e.b as usize].is_some());
+        for e in &mut self.boundary {
+            e.a = map[e.a as usize].expect("kept");
+            e.b = map[e.b as usize].expect("kept");
+        }
+        map
+    }
+
     /// Total area of the quads.
     pub fn area(&self) -> f64 {
         (0..self.quads.len()).map(|q| crate::geometry::polygon_area(&self.quad_points(q))).sum()

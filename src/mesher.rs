@@ -60,9 +60,6 @@ pub struct MeshStats {
 #[derive(Debug, Clone)]
 struct Settings {
     rank: HashMap<String, u32>,
-    upper: f64,
-    lower: f64,
-    near_node: f64,
     rounds: usize,
 }
 
@@ -114,10 +111,11 @@ pub struct Mesher<'k> {
     pub trace: Vec<TraceStep>,
     /// Counters.
     pub stats: MeshStats,
-    size: f64,
     max_elements: usize,
     scratch: Vec<Fv>,
-    pops: u64,
+    /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
+    /// quadratic, for debugging the rules).
+    debug_check: bool,
     /// Loops the design rules gave up on: only the fallback works on them
     /// (and on the loops split from them), so the rules cannot remesh a
     /// region they already failed in.
@@ -138,7 +136,7 @@ impl<'k> Mesher<'k> {
     pub fn new(kb: &'k mut KnowledgeBase, disc: Discretised, size: f64, area: f64) -> Result<Mesher<'k>, MeshError> {
         let strategy = kb.strategy()?;
         let rank = strategy.iter().enumerate().map(|(i, f)| (f.clone(), i as u32)).collect();
-        let set = Settings { rank, upper: kb.bound("upper_corner")?, lower: kb.bound("lower_corner")?, near_node: kb.bound("near_node")?, rounds: kb.bound("redesign_rounds")?.max(0.0) as usize };
+        let set = Settings { rank, rounds: kb.bound("redesign_rounds")?.max(0.0) as usize };
         let mut front = Front::new(&disc.front_loop, size);
         front.index_all(&disc.mesh.nodes);
         let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
@@ -154,10 +152,9 @@ impl<'k> Mesher<'k> {
             seq: 0,
             trace: Vec::new(),
             stats: MeshStats::default(),
-            size,
             max_elements: (estimate * 20.0) as usize + 1000,
             scratch: Vec::new(),
-            pops: 0,
+            debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
             fallback_only: Default::default(),
         })
     }
@@ -287,15 +284,11 @@ impl<'k> Mesher<'k> {
                 if !self.front.alive(fv) {
                     continue;
                 }
-                if self.mesh.quads.len() > self.max_elements || std::env::var("FREEMESH_DEBUG_MAX").ok().and_then(|v| v.parse::<usize>().ok()).is_some_and(|m| self.mesh.quads.len() > m) {
+                if self.mesh.quads.len() > self.max_elements {
                     return Err(MeshError::Runaway(self.mesh.quads.len()));
                 }
                 if !self.try_design(c.key)? {
                     self.failed[c.key as usize] = c.version;
-                }
-                self.pops += 1;
-                if self.pops % 500 == 0 && std::env::var("FREEMESH_DEBUG_SVG").is_ok() {
-                    eprintln!("DEBUG pops {} quads {} loops {} heap {}", self.pops, self.mesh.quads.len(), self.front.live_loops().len(), self.heap.len());
                 }
                 progress(self.mesh.quads.len());
             }
@@ -637,12 +630,12 @@ impl<'k> Mesher<'k> {
         let step = self.trace.len() + 1;
         self.trace.push(TraceStep {
             step,
-            edge: [edge_nodes.0, edge_nodes.1],
+            edge: [edge_nodes.0 as i64, edge_nodes.1 as i64],
             angles,
             feature,
             action: action.to_string(),
             redesign: fired,
-            element: ids.to_vec(),
+            element: ids.iter().map(|&x| x as i64).collect(),
         });
         Ok(true)
     }
@@ -721,7 +714,7 @@ impl<'k> Mesher<'k> {
         self.front.commit(&self.mesh.nodes);
         let ids = if lab.mirrored { [n4, n3, n2, n1] } else { [n1, n2, n3, n4] };
         self.mesh.quads.push(ids);
-        if std::env::var("FREEMESH_DEBUG_CHECK").is_ok() {
+        if self.debug_check {
             self.debug_overlap(self.mesh.quads.len() - 1);
         }
         if action_is_merge(el) {
@@ -838,12 +831,12 @@ impl<'k> Mesher<'k> {
         self.front.commit(&self.mesh.nodes);
         for q in quads {
             self.mesh.quads.push(q);
-            if std::env::var("FREEMESH_DEBUG_CHECK").is_ok() {
+            if self.debug_check {
                 self.debug_overlap(self.mesh.quads.len() - 1);
             }
             self.stats.closed += 1;
             let step = self.trace.len() + 1;
-            self.trace.push(TraceStep { step, edge, angles: angles.clone(), feature: feature.into(), action: action.clone(), redesign: vec![], element: q.to_vec() });
+            self.trace.push(TraceStep { step, edge: edge.map(|x| x as i64), angles: angles.clone(), feature: feature.into(), action: action.clone(), redesign: vec![], element: q.iter().map(|&x| x as i64).collect() });
         }
     }
 
@@ -956,7 +949,7 @@ impl<'k> Mesher<'k> {
         let mut angles = BTreeMap::new();
         angles.insert("theta1".to_string(), deg_round(theta[i]));
         angles.insert("theta2".to_string(), deg_round(theta[j]));
-        self.trace.push(TraceStep { step, edge: [ids[i], ids[j]], angles, feature: "stuck".into(), action: format!("split({k})"), redesign: vec![], element: vec![] });
+        self.trace.push(TraceStep { step, edge: [ids[i] as i64, ids[j] as i64], angles, feature: "stuck".into(), action: format!("split({k})"), redesign: vec![], element: vec![] });
         let touched = self.front.take_touched();
         let mut loops: Vec<u32> = touched.iter().filter(|&&t| self.front.alive(t)).map(|&t| self.front.loop_of(t)).collect();
         loops.sort_unstable();
@@ -1038,7 +1031,7 @@ impl<'k> Mesher<'k> {
             let q = self.mesh.quads.swap_remove(qi);
             self.stats.unmeshed += 1;
             let step = self.trace.len() + 1;
-            self.trace.push(TraceStep { step, edge: [q[0], q[1]], angles: BTreeMap::new(), feature: "stuck".into(), action: "unmesh".into(), redesign: vec![], element: q.to_vec() });
+            self.trace.push(TraceStep { step, edge: [q[0] as i64, q[1] as i64], angles: BTreeMap::new(), feature: "stuck".into(), action: "unmesh".into(), redesign: vec![], element: q.iter().map(|&x| x as i64).collect() });
         }
         let touched = self.front.take_touched();
         for &t in &touched {
@@ -1191,22 +1184,6 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
     best.1
 }
 
-/// The area centroid of a simple polygon (vertex mean if degenerate).
-fn polygon_centroid(p: &[DVec2]) -> DVec2 {
-    let n = p.len();
-    let mut a = 0.0;
-    let mut c = DVec2::ZERO;
-    for i in 0..n {
-        let (u, v) = (p[i], p[(i + 1) % n]);
-        let w = u.perp_dot(v);
-        a += w;
-        c += (u + v) * w;
-    }
-    if a.abs() < 1e-300 {
-        return p.iter().copied().sum::<DVec2>() / n as f64;
-    }
-    c / (3.0 * a)
-}
 
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
 fn corner_angle(a: DVec2, v: DVec2, b: DVec2) -> f64 {

@@ -9,8 +9,9 @@ use std::collections::BTreeMap;
 pub struct TraceStep {
     /// Step number, from 1.
     pub step: usize,
-    /// The front edge acted on (N1, N2), node ids.
-    pub edge: [u32; 2],
+    /// The front edge acted on (N1, N2), node ids of the output mesh (-1:
+    /// a node no element kept, after a stuck region was taken back).
+    pub edge: [i64; 2],
     /// Interior angles seen (degrees, rounded as the KB saw them):
     /// theta7, theta4, theta1, theta2, theta5; for final patterns a1..a6.
     pub angles: BTreeMap<String, f64>,
@@ -22,7 +23,7 @@ pub struct TraceStep {
     /// The redesign rules that fired, in order.
     pub redesign: Vec<String>,
     /// The element's four node ids (counter-clockwise); empty for a split.
-    pub element: Vec<u32>,
+    pub element: Vec<i64>,
 }
 
 impl TraceStep {
