@@ -116,6 +116,7 @@ pub struct Mesher<'k> {
     /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
     /// quadratic, for debugging the rules).
     debug_check: bool,
+    fallback_passes: usize,
     /// Loops the design rules gave up on: only the fallback works on them
     /// (and on the loops split from them), so the rules cannot remesh a
     /// region they already failed in.
@@ -155,6 +156,7 @@ impl<'k> Mesher<'k> {
             max_elements: (estimate * 20.0) as usize + 1000,
             scratch: Vec::new(),
             debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+            fallback_passes: 0,
             fallback_only: Default::default(),
         })
     }
@@ -298,6 +300,18 @@ impl<'k> Mesher<'k> {
             if loops.is_empty() {
                 return Ok(());
             }
+            // Every pass of the fallback must make progress; a bounded number
+            // of passes keeps a pathological loop from running forever.
+            self.fallback_passes += 1;
+            if self.debug_check {
+                let lens: Vec<usize> = self.front.live_loops().iter().map(|&l| self.front.loop_len(l)).collect();
+                eprintln!("fallback pass {} quads {} loops {:?} stats {:?}", self.fallback_passes, self.mesh.quads.len(), lens, self.stats);
+            }
+            if self.fallback_passes > 2000 {
+                let l = self.front.live_loops()[0];
+                let p = self.pos(self.front.loop_head(l));
+                return Err(MeshError::Stuck { len: self.front.loop_len(l), x: p.x, y: p.y });
+            }
             let mut changed = false;
             for l in loops {
                 if self.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
@@ -391,7 +405,15 @@ impl<'k> Mesher<'k> {
         if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < 0.25 * base) {
             return false;
         }
-        let pad = DVec2::splat(0.15 * base);
+        self.quad_clear(p, &ids, 0.15 * base)
+    }
+
+    /// True iff no front edge crosses the element `p` (counter-clockwise;
+    /// `ids` the node ids of its corners, None for new ones), no front node
+    /// lies inside it, and, with `gap` > 0, no new corner comes closer than
+    /// `gap` to a front edge nor a front node to a new edge.
+    fn quad_clear(&mut self, p: [DVec2; 4], ids: &[Option<u32>], gap: f64) -> bool {
+        let pad = DVec2::splat(gap);
         let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b)) - pad;
         let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b)) + pad;
         let mut near = std::mem::take(&mut self.scratch);
@@ -408,8 +430,7 @@ impl<'k> Mesher<'k> {
             }
             // no sliver left between the element and the front: a new
             // corner keeps off front edges, a front node off new edges
-            let gap = 0.15 * base;
-            if !is_quad_node(na) && !is_quad_node(nb) {
+            if gap > 0.0 && !is_quad_node(na) && !is_quad_node(nb) {
                 for i in 0..4 {
                     if ids[i].is_none() && crate::geometry::point_segment_distance(p[i], a, b) < gap {
                         ok = false;
@@ -417,7 +438,7 @@ impl<'k> Mesher<'k> {
                     }
                 }
             }
-            if !is_quad_node(na) {
+            if gap > 0.0 && !is_quad_node(na) {
                 for i in 0..4 {
                     let new_edge = ids[i].is_none() || ids[(i + 1) % 4].is_none();
                     if new_edge && crate::geometry::point_segment_distance(a, p[i], p[(i + 1) % 4]) < gap {
@@ -770,7 +791,7 @@ impl<'k> Mesher<'k> {
         let angle_map: BTreeMap<String, f64> = angles.iter().enumerate().map(|(i, a)| (format!("a{}", i + 1), *a)).collect();
         if n == 4 {
             let q = [p[0], p[1], p[2], p[3]];
-            if convex_ok(&q) && distinct(&ids) {
+            if convex_ok(&q) && distinct(&ids) && self.quad_clear(q, &ids.iter().map(|&x| Some(x)).collect::<Vec<_>>(), 0.0) {
                 let quad = [ids[0], ids[1], ids[2], ids[3]];
                 self.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
                 return Ok(true);
@@ -806,7 +827,11 @@ impl<'k> Mesher<'k> {
                 _ => continue,
             };
             let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
-            if quads.iter().all(|qd| convex_ok(&qd.map(pt))) {
+            let clear = quads.iter().all(|qd| convex_ok(&qd.map(pt))) && quads.iter().all(|qd| {
+                let qids: Vec<Option<u32>> = qd.iter().map(|&i| if i < 6 { Some(ids[i]) } else { None }).collect();
+                self.quad_clear(qd.map(pt), &qids, 0.0)
+            });
+            if clear {
                 let mut extra = Vec::new();
                 for &c in &new_pts {
                     extra.push(c);
@@ -852,7 +877,7 @@ impl<'k> Mesher<'k> {
         }
         // Give the loop room: take back the elements along it, so the
         // enlarged loop has a better shape for the next try.
-        if self.stats.unmeshed < self.max_elements / 4 && self.unmesh_layer(l)? {
+        if self.stats.unmeshed < self.max_elements / 8 && self.unmesh_layer(l)? {
             return Ok(true);
         }
         if self.stats.fallback_splits < self.max_elements / 4 {
@@ -871,7 +896,7 @@ impl<'k> Mesher<'k> {
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
         let theta: Vec<f64> = fvs.iter().map(|&f| self.front.angle(f, &self.mesh.nodes)).collect();
         let elen: Vec<f64> = (0..n).map(|i| (p[(i + 1) % n] - p[i]).length()).collect();
-        let mut best: Option<(f64, usize, usize, usize)> = None;
+        let mut cands: Vec<(f64, usize, usize, usize, f64)> = Vec::new();
         let stride = if n > 300 { n / 300 } else { 1 };
         for i in (0..n).step_by(stride) {
             for j in (i + 2..n).step_by(stride) {
@@ -920,13 +945,16 @@ impl<'k> Mesher<'k> {
                     continue;
                 }
                 let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs() + 10.0 * (gap.min(n - gap) as f64 / n as f64);
-                if best.is_some_and(|b| score <= b.0) {
-                    continue;
-                }
-                if !self.chord_clear(p[i], p[j], ids[i], ids[j], h * clearance) {
-                    continue;
-                }
+                cands.push((score, i, j, k, h));
+            }
+        }
+        // the best chord that is clear: sort first, test clearance after
+        cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let mut best = None;
+        for &(score, i, j, k, h) in &cands {
+            if self.chord_clear(p[i], p[j], ids[i], ids[j], h * clearance) {
                 best = Some((score, i, j, k));
+                break;
             }
         }
         let Some((_, i, j, k)) = best else { return Ok(false) };
@@ -1127,6 +1155,12 @@ impl<'k> Mesher<'k> {
             }
         }
         if let Some((_, inner)) = best {
+            for i in 0..n {
+                let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
+                if !self.quad_clear(q, &[Some(ids[i]), Some(ids[(i + 1) % n]), None, None], 0.0) {
+                    return false;
+                }
+            }
             let base = self.mesh.nodes.len() as u32;
             for &x in &inner {
                 self.mesh.add_node(x, NodeKind::Interior);
