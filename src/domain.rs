@@ -394,9 +394,6 @@ impl Domain {
     }
 
     fn check_geometry(&self) -> Result<(), DomainError> {
-        if self.outer.signed_area().abs() <= 0.0 {
-            return Err(DomainError::Geometry("outer: the loop encloses no area".into()));
-        }
         let polys: Vec<(String, Vec<DVec2>, bool)> = std::iter::once((self.outer.label.clone(), Self::fine_polyline(&self.outer, true), true))
             .chain(self.holes.iter().map(|h| (h.label.clone(), Self::fine_polyline(h, true), true)))
             .chain(self.lines.iter().map(|l| (l.label.clone(), Self::fine_polyline(l, false), false)))
@@ -461,6 +458,9 @@ impl Domain {
                     )));
                 }
             }
+        }
+        if self.outer.signed_area().abs() <= 0.0 {
+            return Err(DomainError::Geometry("outer: the loop encloses no area".into()));
         }
         // Every hole and line lies inside the outer loop (no crossings, so
         // one point of each decides), and outside every hole.

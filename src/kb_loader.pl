@@ -7,6 +7,7 @@ clauses. Result is ok(Count) or error(Line, Reason).
 */
 
 :- use_module(library(lists)).
+:- use_module(library(iso_ext)).
 
 fm_consult(Path, Settings, Result) :-
     catch(fm_read_all_(Path, Items), E, true),
@@ -21,12 +22,12 @@ fm_consult(Path, Settings, Result) :-
 fm_read_all_(Path, Items) :-
     setup_call_cleanup(open(Path, read, S), fm_read_items_(S, Items), close(S)).
 
+% Each item carries the line its clause ends on (the reader stops after
+% the clause's closing full stop and the layout character after it).
 fm_read_items_(S, Items) :-
-    stream_property(S, position(P)),
-    stream_position_data(line_count, P, L0),
     read_term(S, T, []),
     (   T == end_of_file -> Items = []
-    ;   Line is L0 + 1,
+    ;   stream_property(S, position(position_and_lines_read(_, Line))),
         Items = [item(Line, T) | Rest],
         fm_read_items_(S, Rest)
     ).
