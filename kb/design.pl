@@ -9,7 +9,9 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
   a2(Phi2, Phi4)          add two lines: the quad N1 N2 N3 N4 with N4 the
                           front node before N1; new N3 where the line from
                           N2 at Phi2 meets the line from N4 at Phi4.
-  a3                      add one line: link N3 (after N2) and N4 (before N1).
+  a3                      add one line: link the front nodes after N2 and
+                          before N1; the element is N1 N2 N5 N4 (Fig. 7(c)
+                          calls the node after N2 "N3").
   a4                      new N3 = (N2 + N4 + N6)/3 with N6 = N5 + N7 - N1,
                           the far corner of the block of Fig. 9(a).
 
@@ -38,7 +40,7 @@ feature_action(b1, ctx(_, _, T1, T2, _, L5, L6), a1(Phi1, Phi2, L2, L4)) :-
 % a2 for b2: phi2 = phi4 = pi - theta1 (a parallelogram).
 feature_action(b2, ctx(_, _, T1, _, _, _, _), a2(Phi, Phi)) :-
     Phi is 180 - T1.
-% a3 for b3: link N3 and N4.
+% a3 for b3: link N5 (the paper's N3) and N4.
 feature_action(b3, _, a3).
 % a4 for b4: N3 at the centre of the block.
 feature_action(b4, _, a4).

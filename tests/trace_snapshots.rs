@@ -1,0 +1,33 @@
+//! Snapshots of inference traces: one step per line, so that a change to a
+//! rule shows as a readable diff. Review a changed snapshot with
+//! `cargo insta review`; CI runs with INSTA_UPDATE=no.
+
+use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
+
+fn trace_text(path: &std::path::Path) -> String {
+    let domain = Domain::from_file(&path.to_string_lossy()).expect("a valid test domain");
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).expect("the test domain meshes");
+    let mut s = format!("{} quads, {} nodes, {} fallback splits\n", r.mesh.quads.len(), r.mesh.nodes.len(), r.stats.fallback_splits);
+    for t in &r.trace {
+        let angles: Vec<String> = t.angles.iter().map(|(k, v)| format!("{k}={v:.0}")).collect();
+        s.push_str(&format!(
+            "{:>3} {:?} {} -> {} {}{} {:?}\n",
+            t.step,
+            t.edge,
+            t.feature,
+            t.action,
+            angles.join(" "),
+            if t.redesign.is_empty() { String::new() } else { format!(" redesign {}", t.redesign.join(",")) },
+            t.element
+        ));
+    }
+    s
+}
+
+#[test]
+fn traces_of_small_domains() {
+    insta::glob!("inputs/*.json", |path| {
+        insta::assert_snapshot!(trace_text(path));
+    });
+}
