@@ -50,13 +50,19 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
         counts.push(row);
     }
     if total > MAX_BOUNDARY_SEGMENTS as u128 {
-        return Err(DomainError::Geometry(format!("{total} boundary segments is above the limit of {MAX_BOUNDARY_SEGMENTS}")));
+        return Err(DomainError::Geometry(format!(
+            "{total} boundary segments is above the limit of {MAX_BOUNDARY_SEGMENTS}"
+        )));
     }
     if total % 2 == 1 {
         match best_free {
             Some((_, ci, ei)) => counts[ci][ei] += 1,
             None => {
-                let per: Vec<String> = domain.chains().zip(&counts).map(|(c, r)| format!("{} {}", c.label, r.iter().sum::<usize>())).collect();
+                let per: Vec<String> = domain
+                    .chains()
+                    .zip(&counts)
+                    .map(|(c, r)| format!("{} {}", c.label, r.iter().sum::<usize>()))
+                    .collect();
                 return Err(DomainError::Geometry(format!(
                     "the fixed segment counts total {total}, which is odd: no all-quad mesh exists ({})",
                     per.join(", ")
@@ -87,7 +93,14 @@ struct Component {
     closed: bool,
 }
 
-fn chain_nodes(mesh: &mut Mesh, chain: &Chain, counts: &[usize], closed: bool, group: u32, reverse: bool) -> Vec<u32> {
+fn chain_nodes(
+    mesh: &mut Mesh,
+    chain: &Chain,
+    counts: &[usize],
+    closed: bool,
+    group: u32,
+    reverse: bool,
+) -> Vec<u32> {
     let mut pts: Vec<DVec2> = Vec::new();
     for (e, &n) in chain.edges.iter().zip(counts) {
         let p = e.curve.divide(n);
@@ -97,15 +110,29 @@ fn chain_nodes(mesh: &mut Mesh, chain: &Chain, counts: &[usize], closed: bool, g
         }
     }
     if !closed {
-        pts.push(chain.edges.last().expect("a chain has edges").curve.point_at(1.0));
+        pts.push(
+            chain
+                .edges
+                .last()
+                .expect("a chain has edges")
+                .curve
+                .point_at(1.0),
+        );
     }
     if reverse {
         pts.reverse();
     }
-    let ids: Vec<u32> = pts.iter().map(|&p| mesh.add_node(p, NodeKind::Boundary)).collect();
+    let ids: Vec<u32> = pts
+        .iter()
+        .map(|&p| mesh.add_node(p, NodeKind::Boundary))
+        .collect();
     let m = if closed { ids.len() } else { ids.len() - 1 };
     for i in 0..m {
-        mesh.boundary.push(BoundaryEdge { a: ids[i], b: ids[(i + 1) % ids.len()], group });
+        mesh.boundary.push(BoundaryEdge {
+            a: ids[i],
+            b: ids[(i + 1) % ids.len()],
+            group,
+        });
     }
     ids
 }
@@ -118,21 +145,41 @@ pub fn discretise(domain: &Domain, size: f64) -> Result<Discretised, DomainError
     let mut comps = Vec::new();
     mesh.groups.push("outer".into());
     let outer_ccw = domain.outer.signed_area() > 0.0;
-    comps.push(Component { nodes: chain_nodes(&mut mesh, &domain.outer, &counts[0], true, 0, !outer_ccw), closed: true });
+    comps.push(Component {
+        nodes: chain_nodes(&mut mesh, &domain.outer, &counts[0], true, 0, !outer_ccw),
+        closed: true,
+    });
     for (i, h) in domain.holes.iter().enumerate() {
         mesh.groups.push(format!("hole {}", i + 1));
         let ccw = h.signed_area() > 0.0;
         // holes are walked clockwise: the domain is then on the left
         let g = mesh.groups.len() as u32 - 1;
-        comps.push(Component { nodes: chain_nodes(&mut mesh, h, &counts[1 + i], true, g, ccw), closed: true });
+        comps.push(Component {
+            nodes: chain_nodes(&mut mesh, h, &counts[1 + i], true, g, ccw),
+            closed: true,
+        });
     }
     for (i, l) in domain.lines.iter().enumerate() {
         mesh.groups.push(format!("line {}", i + 1));
         let g = mesh.groups.len() as u32 - 1;
-        comps.push(Component { nodes: chain_nodes(&mut mesh, l, &counts[1 + domain.holes.len() + i], false, g, false), closed: false });
+        comps.push(Component {
+            nodes: chain_nodes(
+                &mut mesh,
+                l,
+                &counts[1 + domain.holes.len() + i],
+                false,
+                g,
+                false,
+            ),
+            closed: false,
+        });
     }
     let (front_loop, cuts) = join_components(&mut mesh, &comps, size)?;
-    Ok(Discretised { mesh, front_loop, cuts })
+    Ok(Discretised {
+        mesh,
+        front_loop,
+        cuts,
+    })
 }
 
 /// A candidate attachment node of a component: ring nodes, or a line's ends.
@@ -185,12 +232,20 @@ fn split_quality(mesh: &Mesh, c: &Component, node: u32, d: DVec2) -> Option<f64>
     }
 }
 
-fn join_components(mesh: &mut Mesh, comps: &[Component], size: f64) -> Result<(Vec<u32>, Vec<Vec<u32>>), DomainError> {
+fn join_components(
+    mesh: &mut Mesh,
+    comps: &[Component],
+    size: f64,
+) -> Result<(Vec<u32>, Vec<Vec<u32>>), DomainError> {
     let n = comps.len();
     // All input segments, for the crossing tests of candidate cuts.
     let mut segs: Vec<(DVec2, DVec2, u32, u32)> = Vec::new();
     for c in comps {
-        let m = if c.closed { c.nodes.len() } else { c.nodes.len() - 1 };
+        let m = if c.closed {
+            c.nodes.len()
+        } else {
+            c.nodes.len() - 1
+        };
         for i in 0..m {
             let (a, b) = (c.nodes[i], c.nodes[(i + 1) % c.nodes.len()]);
             segs.push((mesh.nodes[a as usize], mesh.nodes[b as usize], a, b));
@@ -235,7 +290,10 @@ fn join_components(mesh: &mut Mesh, comps: &[Component], size: f64) -> Result<(V
             checked += 1;
             let (pv, pu) = (mesh.nodes[v as usize], mesh.nodes[u as usize]);
             let dir = (pu - pv) / len;
-            let (Some(qv), Some(qu)) = (split_quality(mesh, &comps[di], v, dir), split_quality(mesh, &comps[ci], u, -dir)) else {
+            let (Some(qv), Some(qu)) = (
+                split_quality(mesh, &comps[di], v, dir),
+                split_quality(mesh, &comps[ci], u, -dir),
+            ) else {
                 continue;
             };
             let clear = segs.iter().all(|&(a, b, na, nb)| {
@@ -243,7 +301,9 @@ fn join_components(mesh: &mut Mesh, comps: &[Component], size: f64) -> Result<(V
                     return true;
                 }
                 segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint
-            }) && cut_segs.iter().all(|&(a, b)| segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint);
+            }) && cut_segs
+                .iter()
+                .all(|&(a, b)| segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint);
             if !clear {
                 continue;
             }
@@ -261,7 +321,9 @@ fn join_components(mesh: &mut Mesh, comps: &[Component], size: f64) -> Result<(V
         used.insert(v);
         let (pv, pu) = (mesh.nodes[v as usize], mesh.nodes[u as usize]);
         let k = (((pu - pv).length() / size).round() as usize).max(1);
-        let interior: Vec<u32> = (1..k).map(|i| mesh.add_node(pv + (pu - pv) * (i as f64 / k as f64), NodeKind::Interior)).collect();
+        let interior: Vec<u32> = (1..k)
+            .map(|i| mesh.add_node(pv + (pu - pv) * (i as f64 / k as f64), NodeKind::Interior))
+            .collect();
         cut_segs.push((pv, pu));
         cuts.push((v, u, ci, interior));
         joined[ci] = true;
@@ -273,7 +335,15 @@ fn join_components(mesh: &mut Mesh, comps: &[Component], size: f64) -> Result<(V
     }
     let mut out = Vec::new();
     tour(comps, &cuts, &child_of, 0, comps[0].nodes[0], &mut out);
-    let cut_paths = cuts.iter().map(|c| std::iter::once(c.0).chain(c.3.iter().copied()).chain(std::iter::once(c.1)).collect()).collect();
+    let cut_paths = cuts
+        .iter()
+        .map(|c| {
+            std::iter::once(c.0)
+                .chain(c.3.iter().copied())
+                .chain(std::iter::once(c.1))
+                .collect()
+        })
+        .collect();
     Ok((out, cut_paths))
 }
 
@@ -281,11 +351,24 @@ type Cut = (u32, u32, usize, Vec<u32>);
 
 /// Emits the loop round component `ci` from node `start` (not repeating
 /// `start` at the end), detouring through each cut that hangs from it.
-fn tour(comps: &[Component], cuts: &[Cut], child_of: &std::collections::HashMap<u32, usize>, ci: usize, start: u32, out: &mut Vec<u32>) {
+fn tour(
+    comps: &[Component],
+    cuts: &[Cut],
+    child_of: &std::collections::HashMap<u32, usize>,
+    ci: usize,
+    start: u32,
+    out: &mut Vec<u32>,
+) {
     let c = &comps[ci];
     let order: Vec<u32> = if c.closed {
-        let k = c.nodes.iter().position(|&x| x == start).expect("start is on the ring");
-        (0..c.nodes.len()).map(|i| c.nodes[(k + i) % c.nodes.len()]).collect()
+        let k = c
+            .nodes
+            .iter()
+            .position(|&x| x == start)
+            .expect("start is on the ring");
+        (0..c.nodes.len())
+            .map(|i| c.nodes[(k + i) % c.nodes.len()])
+            .collect()
     } else {
         // out to the far end and back along the other side
         let mut p = c.nodes.clone();

@@ -63,13 +63,23 @@ impl Action {
             Term::Compound(f, args) => match (f.as_str(), args.len()) {
                 ("a1", 4) => {
                     let v = nums(args)?;
-                    Some(Action::A1 { phi1: v[0], phi2: v[1], l2: v[2], l4: v[3] })
+                    Some(Action::A1 {
+                        phi1: v[0],
+                        phi2: v[1],
+                        l2: v[2],
+                        l4: v[3],
+                    })
                 }
                 ("a2", 2) => {
                     let v = nums(args)?;
-                    Some(Action::A2 { phi2: v[0], phi4: v[1] })
+                    Some(Action::A2 {
+                        phi2: v[0],
+                        phi4: v[1],
+                    })
                 }
-                ("shift", 2) if term_number(&args[0]) == Some(1.0) => Some(Action::Shift(Box::new(Action::from_term(&args[1])?))),
+                ("shift", 2) if term_number(&args[0]) == Some(1.0) => {
+                    Some(Action::Shift(Box::new(Action::from_term(&args[1])?)))
+                }
                 ("merge", 2) => {
                     let c = match &args[0] {
                         Term::Atom(a) if a == "n3" => Corner::N3,
@@ -99,7 +109,14 @@ impl Action {
     pub fn is_sound(&self) -> bool {
         let ang = |x: f64| x.is_finite() && x > 0.0 && x < 180.0;
         match self {
-            Action::A1 { phi1, phi2, l2, l4 } => ang(*phi1) && ang(*phi2) && l2.is_finite() && *l2 > 0.0 && l4.is_finite() && *l4 > 0.0,
+            Action::A1 { phi1, phi2, l2, l4 } => {
+                ang(*phi1)
+                    && ang(*phi2)
+                    && l2.is_finite()
+                    && *l2 > 0.0
+                    && l4.is_finite()
+                    && *l4 > 0.0
+            }
             Action::A2 { phi2, phi4 } => ang(*phi2) && ang(*phi4),
             Action::A3 | Action::A4 => true,
             Action::Shift(a) | Action::Merge(_, a) => a.is_sound(),
@@ -117,13 +134,26 @@ impl fmt::Display for Action {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Action::A1 { phi1, phi2, l2, l4 } => {
-                write!(f, "a1({}, {}, {}, {})", fmt_float(r2(*phi1)), fmt_float(r2(*phi2)), fmt_float(r2(*l2)), fmt_float(r2(*l4)))
+                write!(
+                    f,
+                    "a1({}, {}, {}, {})",
+                    fmt_float(r2(*phi1)),
+                    fmt_float(r2(*phi2)),
+                    fmt_float(r2(*l2)),
+                    fmt_float(r2(*l4))
+                )
             }
-            Action::A2 { phi2, phi4 } => write!(f, "a2({}, {})", fmt_float(r2(*phi2)), fmt_float(r2(*phi4))),
+            Action::A2 { phi2, phi4 } => {
+                write!(f, "a2({}, {})", fmt_float(r2(*phi2)), fmt_float(r2(*phi4)))
+            }
             Action::A3 => write!(f, "a3"),
             Action::A4 => write!(f, "a4"),
             Action::Shift(a) => write!(f, "shift(1, {a})"),
-            Action::Merge(c, a) => write!(f, "merge({}, {a})", if *c == Corner::N3 { "n3" } else { "n4" }),
+            Action::Merge(c, a) => write!(
+                f,
+                "merge({}, {a})",
+                if *c == Corner::N3 { "n3" } else { "n4" }
+            ),
         }
     }
 }
@@ -198,12 +228,28 @@ mod tests {
     use super::*;
 
     fn flat() -> Neighbourhood {
-        Neighbourhood { p7: DVec2::new(-2.0, 0.0), p4: DVec2::new(-1.0, 0.0), p1: DVec2::ZERO, p2: DVec2::X, p5: DVec2::new(2.0, 0.0), side: 1.0 }
+        Neighbourhood {
+            p7: DVec2::new(-2.0, 0.0),
+            p4: DVec2::new(-1.0, 0.0),
+            p1: DVec2::ZERO,
+            p2: DVec2::X,
+            p5: DVec2::new(2.0, 0.0),
+            side: 1.0,
+        }
     }
 
     #[test]
     fn a1_on_a_flat_edge_stands_a_unit_square_on_it() {
-        let (n3, n4) = place(&Action::A1 { phi1: 90.0, phi2: 90.0, l2: 1.0, l4: 1.0 }, &flat()).unwrap();
+        let (n3, n4) = place(
+            &Action::A1 {
+                phi1: 90.0,
+                phi2: 90.0,
+                l2: 1.0,
+                l4: 1.0,
+            },
+            &flat(),
+        )
+        .unwrap();
         assert!((n3.unwrap() - DVec2::new(1.0, 1.0)).length() < 1e-12);
         assert!((n4.unwrap() - DVec2::new(0.0, 1.0)).length() < 1e-12);
     }
@@ -211,29 +257,64 @@ mod tests {
     #[test]
     fn a2_with_supplementary_angles_completes_a_parallelogram() {
         // N1 is a right-angled corner: N4 above it.
-        let nb = Neighbourhood { p4: DVec2::Y, ..flat() };
-        let (n3, n4) = place(&Action::A2 { phi2: 90.0, phi4: 90.0 }, &nb).unwrap();
+        let nb = Neighbourhood {
+            p4: DVec2::Y,
+            ..flat()
+        };
+        let (n3, n4) = place(
+            &Action::A2 {
+                phi2: 90.0,
+                phi4: 90.0,
+            },
+            &nb,
+        )
+        .unwrap();
         assert!((n3.unwrap() - DVec2::new(1.0, 1.0)).length() < 1e-12);
         assert!(n4.is_none());
     }
 
     #[test]
     fn mirrored_reading_places_on_the_other_side() {
-        let nb = Neighbourhood { side: -1.0, ..flat() };
-        let (n3, _) = place(&Action::A1 { phi1: 90.0, phi2: 90.0, l2: 1.0, l4: 1.0 }, &nb).unwrap();
+        let nb = Neighbourhood {
+            side: -1.0,
+            ..flat()
+        };
+        let (n3, _) = place(
+            &Action::A1 {
+                phi1: 90.0,
+                phi2: 90.0,
+                l2: 1.0,
+                l4: 1.0,
+            },
+            &nb,
+        )
+        .unwrap();
         assert!((n3.unwrap() - DVec2::new(1.0, -1.0)).length() < 1e-12);
     }
 
     #[test]
     fn a4_puts_n3_at_the_centre_of_a_two_by_two_block() {
-        let nb = Neighbourhood { p7: DVec2::new(0.0, 2.0), p4: DVec2::Y, p1: DVec2::ZERO, p2: DVec2::X, p5: DVec2::new(2.0, 0.0), side: 1.0 };
+        let nb = Neighbourhood {
+            p7: DVec2::new(0.0, 2.0),
+            p4: DVec2::Y,
+            p1: DVec2::ZERO,
+            p2: DVec2::X,
+            p5: DVec2::new(2.0, 0.0),
+            side: 1.0,
+        };
         let (n3, _) = place(&Action::A4, &nb).unwrap();
         assert!((n3.unwrap() - DVec2::new(1.0, 1.0)).length() < 1e-12);
     }
 
     #[test]
     fn action_terms_round_trip_through_text() {
-        let a = Action::Merge(Corner::N3, Box::new(Action::A2 { phi2: 90.0, phi4: 85.5 }));
+        let a = Action::Merge(
+            Corner::N3,
+            Box::new(Action::A2 {
+                phi2: 90.0,
+                phi4: 85.5,
+            }),
+        );
         assert_eq!(a.to_string(), "merge(n3, a2(90.0, 85.5))");
     }
 }

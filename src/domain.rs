@@ -49,7 +49,10 @@ pub enum DomainError {
 }
 
 fn key_err(key: &str, message: impl Into<String>) -> DomainError {
-    DomainError::Key { key: key.to_string(), message: message.into() }
+    DomainError::Key {
+        key: key.to_string(),
+        message: message.into(),
+    }
 }
 
 /// One edge of a loop or line: a straight segment or a circular arc.
@@ -166,7 +169,9 @@ impl Curve {
     pub fn divide(&self, n: usize) -> Vec<DVec2> {
         match self {
             Curve::Circle { .. } => (0..n).map(|k| self.point_at(k as f64 / n as f64)).collect(),
-            _ => (0..=n).map(|k| self.point_at(k as f64 / n as f64)).collect(),
+            _ => (0..=n)
+                .map(|k| self.point_at(k as f64 / n as f64))
+                .collect(),
         }
     }
 
@@ -176,7 +181,8 @@ impl Curve {
             Curve::Line { a, b } => 0.5 * a.perp_dot(b),
             Curve::Arc { a, b, bulge } => {
                 let (_, r, _, sweep) = Self::arc_frame(a, b, bulge);
-                0.5 * a.perp_dot(b) + 0.5 * r * r * (sweep.abs() - sweep.abs().sin()) * sweep.signum()
+                0.5 * a.perp_dot(b)
+                    + 0.5 * r * r * (sweep.abs() - sweep.abs().sin()) * sweep.signum()
             }
             Curve::Circle { radius, .. } => PI * radius * radius,
         }
@@ -226,7 +232,9 @@ pub struct Domain {
 }
 
 fn num(v: &Value, key: &str) -> Result<f64, DomainError> {
-    let x = v.as_f64().ok_or_else(|| key_err(key, "expected a number"))?;
+    let x = v
+        .as_f64()
+        .ok_or_else(|| key_err(key, "expected a number"))?;
     if !x.is_finite() {
         return Err(key_err(key, "must be finite"));
     }
@@ -242,45 +250,82 @@ fn positive(v: &Value, key: &str) -> Result<f64, DomainError> {
 }
 
 fn point(v: &Value, key: &str) -> Result<DVec2, DomainError> {
-    let arr = v.as_array().ok_or_else(|| key_err(key, "expected a point [x, y]"))?;
+    let arr = v
+        .as_array()
+        .ok_or_else(|| key_err(key, "expected a point [x, y]"))?;
     if arr.len() != 2 {
-        return Err(key_err(key, format!("expected a point [x, y], got {} numbers", arr.len())));
+        return Err(key_err(
+            key,
+            format!("expected a point [x, y], got {} numbers", arr.len()),
+        ));
     }
-    Ok(DVec2::new(num(&arr[0], &format!("{key}[0]"))?, num(&arr[1], &format!("{key}[1]"))?))
+    Ok(DVec2::new(
+        num(&arr[0], &format!("{key}[0]"))?,
+        num(&arr[1], &format!("{key}[1]"))?,
+    ))
 }
 
 fn segment_count(v: &Value, key: &str) -> Result<Option<usize>, DomainError> {
     if v.is_null() {
         return Ok(None);
     }
-    let n = v.as_f64().ok_or_else(|| key_err(key, "expected a whole number"))?;
+    let n = v
+        .as_f64()
+        .ok_or_else(|| key_err(key, "expected a whole number"))?;
     if !n.is_finite() || n < 0.0 || n.fract() != 0.0 {
-        return Err(key_err(key, format!("expected a whole number >= 0, got {n}")));
+        return Err(key_err(
+            key,
+            format!("expected a whole number >= 0, got {n}"),
+        ));
     }
     if n > MAX_BOUNDARY_SEGMENTS as f64 {
-        return Err(key_err(key, format!("{n} segments is above the limit of {MAX_BOUNDARY_SEGMENTS}")));
+        return Err(key_err(
+            key,
+            format!("{n} segments is above the limit of {MAX_BOUNDARY_SEGMENTS}"),
+        ));
     }
     Ok(if n == 0.0 { None } else { Some(n as usize) })
 }
 
 fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
-    let obj = v.as_object().ok_or_else(|| key_err(key, "expected an object with \"points\" or \"circle\""))?;
+    let obj = v
+        .as_object()
+        .ok_or_else(|| key_err(key, "expected an object with \"points\" or \"circle\""))?;
     if let Some(c) = obj.get("circle") {
         if !closed {
             return Err(key_err(key, "an inner line cannot be a circle"));
         }
         let ck = format!("{key}.circle");
-        let co = c.as_object().ok_or_else(|| key_err(&ck, "expected an object"))?;
-        let center = point(co.get("center").ok_or_else(|| key_err(&ck, "missing key \"center\""))?, &format!("{ck}.center"))?;
-        let radius = positive(co.get("radius").ok_or_else(|| key_err(&ck, "missing key \"radius\""))?, &format!("{ck}.radius"))?;
+        let co = c
+            .as_object()
+            .ok_or_else(|| key_err(&ck, "expected an object"))?;
+        let center = point(
+            co.get("center")
+                .ok_or_else(|| key_err(&ck, "missing key \"center\""))?,
+            &format!("{ck}.center"),
+        )?;
+        let radius = positive(
+            co.get("radius")
+                .ok_or_else(|| key_err(&ck, "missing key \"radius\""))?,
+            &format!("{ck}.radius"),
+        )?;
         let segments = match co.get("segments") {
             Some(s) => segment_count(s, &format!("{ck}.segments"))?,
             None => None,
         };
         if segments.is_some_and(|n| n < 3) {
-            return Err(key_err(&format!("{ck}.segments"), "a circle needs at least 3 segments"));
+            return Err(key_err(
+                &format!("{ck}.segments"),
+                "a circle needs at least 3 segments",
+            ));
         }
-        return Ok(Chain { edges: vec![Edge { curve: Curve::Circle { center, radius }, segments }], label: key.to_string() });
+        return Ok(Chain {
+            edges: vec![Edge {
+                curve: Curve::Circle { center, radius },
+                segments,
+            }],
+            label: key.to_string(),
+        });
     }
     let pk = format!("{key}.points");
     let pts = obj
@@ -290,16 +335,30 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
         .ok_or_else(|| key_err(&pk, "expected an array of points"))?;
     let min = if closed { 3 } else { 2 };
     if pts.len() < min {
-        return Err(key_err(&pk, format!("needs at least {min} points, got {}", pts.len())));
+        return Err(key_err(
+            &pk,
+            format!("needs at least {min} points, got {}", pts.len()),
+        ));
     }
-    let points: Vec<DVec2> = pts.iter().enumerate().map(|(i, p)| point(p, &format!("{pk}[{i}]"))).collect::<Result<_, _>>()?;
-    let m = if closed { points.len() } else { points.len() - 1 };
+    let points: Vec<DVec2> = pts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| point(p, &format!("{pk}[{i}]")))
+        .collect::<Result<_, _>>()?;
+    let m = if closed {
+        points.len()
+    } else {
+        points.len() - 1
+    };
     let per_edge = |name: &str| -> Result<Vec<Value>, DomainError> {
         match obj.get(name) {
             None | Some(Value::Null) => Ok(vec![Value::Null; m]),
             Some(Value::Array(a)) => {
                 if a.len() != m {
-                    return Err(key_err(&format!("{key}.{name}"), format!("expected {m} entries (one per edge), got {}", a.len())));
+                    return Err(key_err(
+                        &format!("{key}.{name}"),
+                        format!("expected {m} entries (one per edge), got {}", a.len()),
+                    ));
                 }
                 Ok(a.clone())
             }
@@ -313,43 +372,76 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
         let a = points[i];
         let b = points[(i + 1) % points.len()];
         if (b - a).length() <= 1e-12 * (1.0 + a.length()) {
-            return Err(key_err(&format!("{key} edge {i}"), format!("zero-length edge from point {i} ({}, {})", a.x, a.y)));
+            return Err(key_err(
+                &format!("{key} edge {i}"),
+                format!("zero-length edge from point {i} ({}, {})", a.x, a.y),
+            ));
         }
         let bk = format!("{key}.bulges[{i}]");
-        let bulge = if bulges[i].is_null() { 0.0 } else { num(&bulges[i], &bk)? };
+        let bulge = if bulges[i].is_null() {
+            0.0
+        } else {
+            num(&bulges[i], &bk)?
+        };
         if bulge.abs() > MAX_BULGE {
-            return Err(key_err(&bk, format!("|bulge| {bulge} is above {MAX_BULGE}")));
+            return Err(key_err(
+                &bk,
+                format!("|bulge| {bulge} is above {MAX_BULGE}"),
+            ));
         }
-        let curve = if bulge == 0.0 { Curve::Line { a, b } } else { Curve::Arc { a, b, bulge } };
+        let curve = if bulge == 0.0 {
+            Curve::Line { a, b }
+        } else {
+            Curve::Arc { a, b, bulge }
+        };
         let segments = segment_count(&counts[i], &format!("{key}.segments[{i}]"))?;
         edges.push(Edge { curve, segments });
     }
-    Ok(Chain { edges, label: key.to_string() })
+    Ok(Chain {
+        edges,
+        label: key.to_string(),
+    })
 }
 
 impl Domain {
     /// Reads and validates a domain file.
     pub fn from_file(path: &str) -> Result<Domain, DomainError> {
-        let text = std::fs::read_to_string(path).map_err(|source| DomainError::Io { path: path.to_string(), source })?;
-        let v: Value =
-            serde_json::from_str(&text).map_err(|e| DomainError::Json { path: path.to_string(), message: e.to_string() })?;
+        let text = std::fs::read_to_string(path).map_err(|source| DomainError::Io {
+            path: path.to_string(),
+            source,
+        })?;
+        let v: Value = serde_json::from_str(&text).map_err(|e| DomainError::Json {
+            path: path.to_string(),
+            message: e.to_string(),
+        })?;
         Domain::from_json(&v)
     }
 
     /// Builds and validates a domain from parsed JSON.
     pub fn from_json(v: &Value) -> Result<Domain, DomainError> {
-        let obj = v.as_object().ok_or_else(|| key_err("(top level)", "expected a JSON object"))?;
+        let obj = v
+            .as_object()
+            .ok_or_else(|| key_err("(top level)", "expected a JSON object"))?;
         let name = match obj.get("name") {
             None | Some(Value::Null) => "domain".to_string(),
             Some(Value::String(s)) => s.clone(),
             Some(_) => return Err(key_err("name", "expected a string")),
         };
-        let size = positive(obj.get("size").ok_or_else(|| key_err("size", "missing key"))?, "size")?;
+        let size = positive(
+            obj.get("size")
+                .ok_or_else(|| key_err("size", "missing key"))?,
+            "size",
+        )?;
         let max_size = match obj.get("max_size") {
             None | Some(Value::Null) => None,
             Some(x) => Some(positive(x, "max_size")?),
         };
-        let outer = chain(obj.get("outer").ok_or_else(|| key_err("outer", "missing key"))?, "outer", true)?;
+        let outer = chain(
+            obj.get("outer")
+                .ok_or_else(|| key_err("outer", "missing key"))?,
+            "outer",
+            true,
+        )?;
         let list = |k: &str| -> Result<Vec<Value>, DomainError> {
             match obj.get(k) {
                 None | Some(Value::Null) => Ok(vec![]),
@@ -357,16 +449,33 @@ impl Domain {
                 Some(_) => Err(key_err(k, "expected an array")),
             }
         };
-        let holes = list("holes")?.iter().enumerate().map(|(i, h)| chain(h, &format!("holes[{i}]"), true)).collect::<Result<Vec<_>, _>>()?;
-        let lines = list("lines")?.iter().enumerate().map(|(i, l)| chain(l, &format!("lines[{i}]"), false)).collect::<Result<Vec<_>, _>>()?;
-        let d = Domain { name, size, max_size, outer, holes, lines };
+        let holes = list("holes")?
+            .iter()
+            .enumerate()
+            .map(|(i, h)| chain(h, &format!("holes[{i}]"), true))
+            .collect::<Result<Vec<_>, _>>()?;
+        let lines = list("lines")?
+            .iter()
+            .enumerate()
+            .map(|(i, l)| chain(l, &format!("lines[{i}]"), false))
+            .collect::<Result<Vec<_>, _>>()?;
+        let d = Domain {
+            name,
+            size,
+            max_size,
+            outer,
+            holes,
+            lines,
+        };
         d.check_geometry()?;
         Ok(d)
     }
 
     /// All chains: outer first, then holes, then lines.
     pub fn chains(&self) -> impl Iterator<Item = &Chain> {
-        std::iter::once(&self.outer).chain(self.holes.iter()).chain(self.lines.iter())
+        std::iter::once(&self.outer)
+            .chain(self.holes.iter())
+            .chain(self.lines.iter())
     }
 
     /// A fine polyline of each chain, for the geometric checks: arcs are cut
@@ -376,7 +485,9 @@ impl Domain {
         for e in &c.edges {
             let n = match e.curve {
                 Curve::Line { .. } => 1,
-                Curve::Arc { bulge, .. } => ((4.0 * bulge.atan()).abs() / (PI / 64.0)).ceil().max(2.0) as usize,
+                Curve::Arc { bulge, .. } => {
+                    ((4.0 * bulge.atan()).abs() / (PI / 64.0)).ceil().max(2.0) as usize
+                }
                 Curve::Circle { .. } => 128,
             };
             let p = e.curve.divide(n);
@@ -394,10 +505,22 @@ impl Domain {
     }
 
     fn check_geometry(&self) -> Result<(), DomainError> {
-        let polys: Vec<(String, Vec<DVec2>, bool)> = std::iter::once((self.outer.label.clone(), Self::fine_polyline(&self.outer, true), true))
-            .chain(self.holes.iter().map(|h| (h.label.clone(), Self::fine_polyline(h, true), true)))
-            .chain(self.lines.iter().map(|l| (l.label.clone(), Self::fine_polyline(l, false), false)))
-            .collect();
+        let polys: Vec<(String, Vec<DVec2>, bool)> = std::iter::once((
+            self.outer.label.clone(),
+            Self::fine_polyline(&self.outer, true),
+            true,
+        ))
+        .chain(
+            self.holes
+                .iter()
+                .map(|h| (h.label.clone(), Self::fine_polyline(h, true), true)),
+        )
+        .chain(
+            self.lines
+                .iter()
+                .map(|l| (l.label.clone(), Self::fine_polyline(l, false), false)),
+        )
+        .collect();
         let scale = {
             let (mut lo, mut hi) = (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN));
             for p in &polys[0].1 {
@@ -416,7 +539,8 @@ impl Domain {
             }
         }
         let cell = (scale / (segs.len() as f64).sqrt().max(1.0)).max(1e-12);
-        let mut grid: std::collections::BTreeMap<(i64, i64), Vec<usize>> = std::collections::BTreeMap::new();
+        let mut grid: std::collections::BTreeMap<(i64, i64), Vec<usize>> =
+            std::collections::BTreeMap::new();
         for (k, s) in segs.iter().enumerate() {
             let lo = s.2.min(s.3);
             let hi = s.2.max(s.3);
@@ -460,21 +584,28 @@ impl Domain {
             }
         }
         if self.outer.signed_area().abs() <= 0.0 {
-            return Err(DomainError::Geometry("outer: the loop encloses no area".into()));
+            return Err(DomainError::Geometry(
+                "outer: the loop encloses no area".into(),
+            ));
         }
         // Every hole and line lies inside the outer loop (no crossings, so
         // one point of each decides), and outside every hole.
         let outer = &polys[0].1;
         for (label, p, _) in &polys[1..] {
             if !crate::geometry::point_in_polygon(p[0], outer) {
-                return Err(DomainError::Geometry(format!("{label} lies outside the outer loop")));
+                return Err(DomainError::Geometry(format!(
+                    "{label} lies outside the outer loop"
+                )));
             }
         }
         for (hi, h) in self.holes.iter().enumerate() {
             let hp = &polys[1 + hi].1;
             for (label, p, _) in &polys[1..] {
                 if label != &h.label && crate::geometry::point_in_polygon(p[0], hp) {
-                    return Err(DomainError::Geometry(format!("{label} lies inside {}", h.label)));
+                    return Err(DomainError::Geometry(format!(
+                        "{label} lies inside {}",
+                        h.label
+                    )));
                 }
             }
         }

@@ -60,7 +60,10 @@ pub struct Front {
 impl Front {
     /// A front of one loop through `nodes` (in order, domain on the left).
     pub fn new(nodes: &[u32], cell: f64) -> Front {
-        let mut f = Front { cell: cell.max(1e-300), ..Default::default() };
+        let mut f = Front {
+            cell: cell.max(1e-300),
+            ..Default::default()
+        };
         f.add_loop(nodes, &[]);
         f.journal.clear();
         f
@@ -85,7 +88,11 @@ impl Front {
             self.occurrences_of.entry(node).or_default().push(base + i);
             self.touched.push(base + i);
         }
-        self.loops.push(LoopRec { head: base, len: nodes.len(), alive: true });
+        self.loops.push(LoopRec {
+            head: base,
+            len: nodes.len(),
+            alive: true,
+        });
         self.journal.push(Change::NewLoop);
         lp
     }
@@ -134,7 +141,12 @@ impl Front {
 
     /// The live loops touched by the current transaction.
     pub fn touched_loops(&self) -> Vec<u32> {
-        let mut v: Vec<u32> = self.touched.iter().filter(|&&fv| self.occ[fv as usize].alive).map(|&fv| self.occ[fv as usize].lp).collect();
+        let mut v: Vec<u32> = self
+            .touched
+            .iter()
+            .filter(|&&fv| self.occ[fv as usize].alive)
+            .map(|&fv| self.occ[fv as usize].lp)
+            .collect();
         v.sort_unstable();
         v.dedup();
         v.retain(|&l| self.loops[l as usize].alive);
@@ -143,7 +155,11 @@ impl Front {
 
     /// The live occurrences touched by the current transaction.
     pub fn touched_live(&self) -> Vec<Fv> {
-        self.touched.iter().copied().filter(|&fv| self.occ[fv as usize].alive).collect()
+        self.touched
+            .iter()
+            .copied()
+            .filter(|&fv| self.occ[fv as usize].alive)
+            .collect()
     }
 
     /// Occurrences changed since the last call (for re-classification).
@@ -167,7 +183,10 @@ impl Front {
                 let c = self.cell_of(pa + (pb - pa) * (k as f64 / steps as f64));
                 for dx in -1..=1 {
                     for dy in -1..=1 {
-                        self.grid.entry((c.0 + dx, c.1 + dy)).or_default().push((fv, a, b));
+                        self.grid
+                            .entry((c.0 + dx, c.1 + dy))
+                            .or_default()
+                            .push((fv, a, b));
                     }
                 }
             }
@@ -181,7 +200,10 @@ impl Front {
     }
 
     fn cell_of(&self, p: DVec2) -> (i32, i32) {
-        ((p.x / self.cell).floor().clamp(-1e9, 1e9) as i32, (p.y / self.cell).floor().clamp(-1e9, 1e9) as i32)
+        (
+            (p.x / self.cell).floor().clamp(-1e9, 1e9) as i32,
+            (p.y / self.cell).floor().clamp(-1e9, 1e9) as i32,
+        )
     }
 
     /// Indexes every live edge (call once after building, with positions).
@@ -272,7 +294,9 @@ impl Front {
     }
     /// Ids of the live loops.
     pub fn live_loops(&self) -> Vec<u32> {
-        (0..self.loops.len() as u32).filter(|&l| self.loops[l as usize].alive).collect()
+        (0..self.loops.len() as u32)
+            .filter(|&l| self.loops[l as usize].alive)
+            .collect()
     }
     /// Number of occurrence slots (live or not).
     pub fn capacity(&self) -> usize {
@@ -281,7 +305,12 @@ impl Front {
 
     /// The live occurrences of a node.
     pub fn occurrences(&self, node: u32) -> impl Iterator<Item = Fv> + '_ {
-        self.occurrences_of.get(&node).into_iter().flatten().copied().filter(move |&fv| self.occ[fv as usize].alive && self.occ[fv as usize].node == node)
+        self.occurrences_of
+            .get(&node)
+            .into_iter()
+            .flatten()
+            .copied()
+            .filter(move |&fv| self.occ[fv as usize].alive && self.occ[fv as usize].node == node)
     }
 
     /// The occurrences of a loop in order, from its head.
@@ -327,7 +356,14 @@ impl Front {
         let mut made = Vec::with_capacity(nodes.len());
         for &node in nodes {
             let id = self.occ.len() as Fv;
-            self.occ.push(Occurrence { node, prev, next: NONE, lp: l, alive: true, layer });
+            self.occ.push(Occurrence {
+                node,
+                prev,
+                next: NONE,
+                lp: l,
+                alive: true,
+                layer,
+            });
             self.journal.push(Change::NewOcc);
             self.occurrences_of.entry(node).or_default().push(id);
             self.touched.push(id);
@@ -394,7 +430,11 @@ impl Front {
         }
         let long_head = if short_head == u { v } else { u };
         let new_l = self.loops.len() as u32;
-        self.loops.push(LoopRec { head: short_head, len: short_len, alive: true });
+        self.loops.push(LoopRec {
+            head: short_head,
+            len: short_len,
+            alive: true,
+        });
         self.journal.push(Change::NewLoop);
         let mut fv = short_head;
         loop {
@@ -475,7 +515,14 @@ mod tests {
     use super::*;
 
     fn square_front() -> (Front, Vec<DVec2>) {
-        let pos = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(2.0, 0.0), DVec2::new(2.0, 1.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0)];
+        let pos = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+        ];
         let mut f = Front::new(&[0, 1, 2, 3, 4, 5], 1.0);
         f.index_all(&pos);
         (f, pos)

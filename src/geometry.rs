@@ -74,9 +74,17 @@ pub fn segments_intersect(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Segment
     let d4 = orient2d(p1, p2, q2);
     if d1 == 0.0 && d2 == 0.0 && d3 == 0.0 && d4 == 0.0 {
         // Collinear: compare the projections on the longer direction.
-        let dir = if (p2 - p1).length_squared() >= (q2 - q1).length_squared() { p2 - p1 } else { q2 - q1 };
+        let dir = if (p2 - p1).length_squared() >= (q2 - q1).length_squared() {
+            p2 - p1
+        } else {
+            q2 - q1
+        };
         if dir == DVec2::ZERO {
-            return if p1 == q1 { SegmentRelation::Touch } else { SegmentRelation::Disjoint };
+            return if p1 == q1 {
+                SegmentRelation::Touch
+            } else {
+                SegmentRelation::Disjoint
+            };
         }
         let (a0, a1) = {
             let (s, t) = (p1.dot(dir), p2.dot(dir));
@@ -96,7 +104,9 @@ pub fn segments_intersect(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Segment
             SegmentRelation::Overlap
         };
     }
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
         return SegmentRelation::Cross;
     }
     if (d1 == 0.0 && on_segment(q1, q2, p1))
@@ -128,7 +138,10 @@ pub fn point_in_polygon(p: DVec2, poly: &[DVec2]) -> bool {
 /// Signed area of a polygon (counter-clockwise positive).
 pub fn polygon_area(poly: &[DVec2]) -> f64 {
     let n = poly.len();
-    (0..n).map(|i| poly[i].perp_dot(poly[(i + 1) % n])).sum::<f64>() / 2.0
+    (0..n)
+        .map(|i| poly[i].perp_dot(poly[(i + 1) % n]))
+        .sum::<f64>()
+        / 2.0
 }
 
 /// The interior angle (radians, in (0, 2π]) at `v` of a boundary walked
@@ -200,7 +213,12 @@ mod tests {
 
     #[test]
     fn crossing_segments_cross() {
-        let r = segments_intersect(DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(0.0, 1.0), DVec2::new(1.0, 0.0));
+        let r = segments_intersect(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+            DVec2::new(1.0, 0.0),
+        );
         assert_eq!(r, SegmentRelation::Cross);
     }
 
@@ -212,7 +230,12 @@ mod tests {
 
     #[test]
     fn collinear_segments_overlap() {
-        let r = segments_intersect(DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::X, DVec2::new(3.0, 0.0));
+        let r = segments_intersect(
+            DVec2::ZERO,
+            DVec2::new(2.0, 0.0),
+            DVec2::X,
+            DVec2::new(3.0, 0.0),
+        );
         assert_eq!(r, SegmentRelation::Overlap);
     }
 
@@ -243,7 +266,8 @@ mod tests {
 
     #[test]
     fn point_beyond_segment_end_has_horizontal_distance() {
-        let (v, h) = point_segment_distances(DVec2::new(3.0, 1.0), DVec2::ZERO, DVec2::new(2.0, 0.0));
+        let (v, h) =
+            point_segment_distances(DVec2::new(3.0, 1.0), DVec2::ZERO, DVec2::new(2.0, 0.0));
         assert_eq!((v, h), (1.0, 1.0));
     }
 

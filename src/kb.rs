@@ -104,8 +104,13 @@ fn atom_needs_quotes(a: &str) -> bool {
     let mut ch = a.chars();
     match ch.next() {
         None => true,
-        Some(c) if c.is_ascii_lowercase() => !a.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'),
-        _ => !matches!(a, "[]" | "!" | ";" | "{}" | "," | "|") && !a.chars().all(|c| "+-*/\\^<>=~:.?@#&$".contains(c)),
+        Some(c) if c.is_ascii_lowercase() => {
+            !a.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        }
+        _ => {
+            !matches!(a, "[]" | "!" | ";" | "{}" | "," | "|")
+                && !a.chars().all(|c| "+-*/\\^<>=~:.?@#&$".contains(c))
+        }
     }
 }
 
@@ -202,13 +207,30 @@ impl KnowledgeBase {
         for (name, text) in BUILTIN_KB {
             machine.consult_module_string(name, text.to_string());
         }
-        let mut kb = KnowledgeBase { machine, files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(), cache: HashMap::new(), stats: KbStats::default() };
+        let mut kb = KnowledgeBase {
+            machine,
+            files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
+            cache: HashMap::new(),
+            stats: KbStats::default(),
+        };
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
-        for probe in ["strategy(_)", "point_segment_near(0, 0, 1)", "edge_feature(ctx(180,180,180,180,180,1,1), _)", "edge_design(ctx(180,180,180,180,180,1,1), _, _)", "violation(outer_corner(n1, 10), _)", "loop_patterns([90,90,180,90,90,180], _)", "fm_known_action_(a3)"] {
+        for probe in [
+            "strategy(_)",
+            "point_segment_near(0, 0, 1)",
+            "edge_feature(ctx(180,180,180,180,180,1,1), _)",
+            "edge_design(ctx(180,180,180,180,180,1,1), _, _)",
+            "violation(outer_corner(n1, 10), _)",
+            "loop_patterns([90,90,180,90,90,180], _)",
+            "fm_known_action_(a3)",
+        ] {
             let ok = kb.run(&format!("{probe}."))?;
             if ok.is_empty() {
-                return Err(KbError::Clause { path: "built-in knowledge base".into(), line: 0, reason: format!("{probe} does not hold: a kb/*.pl file did not load") });
+                return Err(KbError::Clause {
+                    path: "built-in knowledge base".into(),
+                    line: 0,
+                    reason: format!("{probe} does not hold: a kb/*.pl file did not load"),
+                });
             }
         }
         Ok(kb)
@@ -233,7 +255,10 @@ impl KnowledgeBase {
                 Ok(LeafAnswer::Exception(e)) | Err(e) => {
                     self.stats.engine_time += t0.elapsed();
                     let name = query.split('(').next().unwrap_or(query).to_string();
-                    return Err(KbError::Query { query: name, error: term_text(&e) });
+                    return Err(KbError::Query {
+                        query: name,
+                        error: term_text(&e),
+                    });
                 }
             }
             if out.len() >= limit {
@@ -261,47 +286,94 @@ impl KnowledgeBase {
     /// Settings (`strategy/1`, `bound/2`) it defines replace the built-in
     /// ones; its other clauses are added after the built-in rules.
     pub fn consult_file(&mut self, path: &str) -> Result<usize, KbError> {
-        std::fs::metadata(path).map_err(|e| KbError::Read { path: path.into(), message: e.to_string() })?;
-        let abs = std::fs::canonicalize(path).map_err(|e| KbError::Read { path: path.into(), message: e.to_string() })?;
+        std::fs::metadata(path).map_err(|e| KbError::Read {
+            path: path.into(),
+            message: e.to_string(),
+        })?;
+        let abs = std::fs::canonicalize(path).map_err(|e| KbError::Read {
+            path: path.into(),
+            message: e.to_string(),
+        })?;
         let settings = format!("[{}]", SETTINGS.join(", "));
-        let q = format!("fm_consult({}, {}, R).", prolog_quoted(&abs.to_string_lossy()), settings);
-        let ans = self.run(&q).map_err(|e| KbError::Clause { path: path.into(), line: 0, reason: e.to_string() })?;
+        let q = format!(
+            "fm_consult({}, {}, R).",
+            prolog_quoted(&abs.to_string_lossy()),
+            settings
+        );
+        let ans = self.run(&q).map_err(|e| KbError::Clause {
+            path: path.into(),
+            line: 0,
+            reason: e.to_string(),
+        })?;
         let r = ans.into_iter().next().and_then(|mut b| b.remove("R"));
         self.cache.clear();
         match r {
-            Some(Term::Compound(f, args)) if f == "ok" => Ok(args.first().and_then(term_number).unwrap_or(0.0) as usize),
-            Some(Term::Compound(f, args)) if f == "error" && args.len() == 2 => Err(KbError::Clause {
+            Some(Term::Compound(f, args)) if f == "ok" => {
+                Ok(args.first().and_then(term_number).unwrap_or(0.0) as usize)
+            }
+            Some(Term::Compound(f, args)) if f == "error" && args.len() == 2 => {
+                Err(KbError::Clause {
+                    path: path.into(),
+                    line: term_number(&args[0]).unwrap_or(0.0) as u64,
+                    reason: term_text(&args[1]),
+                })
+            }
+            other => Err(KbError::Clause {
                 path: path.into(),
-                line: term_number(&args[0]).unwrap_or(0.0) as u64,
-                reason: term_text(&args[1]),
+                line: 0,
+                reason: format!(
+                    "could not be consulted ({})",
+                    other
+                        .map(|t| term_text(&t))
+                        .unwrap_or_else(|| "no answer".into())
+                ),
             }),
-            other => Err(KbError::Clause { path: path.into(), line: 0, reason: format!("could not be consulted ({})", other.map(|t| term_text(&t)).unwrap_or_else(|| "no answer".into())) }),
         }
         .inspect(|_| self.files.push(path.to_string()))
     }
 
     /// The recursion strategy: feature names in the order they are tried.
     pub fn strategy(&mut self) -> Result<Vec<String>, KbError> {
-        let t = self.run("strategy(S).")?.into_iter().next().and_then(|mut b| b.remove("S"));
+        let t = self
+            .run("strategy(S).")?
+            .into_iter()
+            .next()
+            .and_then(|mut b| b.remove("S"));
         match t {
             Some(Term::List(items)) => items
                 .iter()
                 .map(|x| match x {
                     Term::Atom(a) => Ok(a.clone()),
-                    other => Err(KbError::Answer { query: "strategy/1".into(), answer: term_text(other), expected: "a feature name".into() }),
+                    other => Err(KbError::Answer {
+                        query: "strategy/1".into(),
+                        answer: term_text(other),
+                        expected: "a feature name".into(),
+                    }),
                 })
                 .collect(),
-            other => Err(KbError::Answer { query: "strategy/1".into(), answer: other.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()), expected: "a list of feature names".into() }),
+            other => Err(KbError::Answer {
+                query: "strategy/1".into(),
+                answer: other
+                    .map(|t| term_text(&t))
+                    .unwrap_or_else(|| "nothing".into()),
+                expected: "a list of feature names".into(),
+            }),
         }
     }
 
     /// A numeric setting `bound(Name, Value)`.
     pub fn bound(&mut self, name: &str) -> Result<f64, KbError> {
-        let t = self.run(&format!("bound({name}, V)."))?.into_iter().next().and_then(|mut b| b.remove("V"));
-        t.as_ref().and_then(term_number).ok_or_else(|| KbError::Answer {
-            query: format!("bound({name}, _)"),
-            answer: t.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()),
-            expected: "a number".into(),
-        })
+        let t = self
+            .run(&format!("bound({name}, V)."))?
+            .into_iter()
+            .next()
+            .and_then(|mut b| b.remove("V"));
+        t.as_ref()
+            .and_then(term_number)
+            .ok_or_else(|| KbError::Answer {
+                query: format!("bound({name}, _)"),
+                answer: t.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()),
+                expected: "a number".into(),
+            })
     }
 }

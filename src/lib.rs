@@ -52,7 +52,11 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { size: None, max_size: None, smoothing_passes: 30 }
+        Options {
+            size: None,
+            max_size: None,
+            smoothing_passes: 30,
+        }
     }
 }
 
@@ -105,14 +109,23 @@ pub struct MeshResult {
 }
 
 /// Meshes a domain with the knowledge base, smooths and checks the mesh.
-pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, progress: &mut dyn FnMut(usize)) -> Result<MeshResult, Error> {
+pub fn mesh_domain(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
     let size = opts.size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
-        return Err(Error::Option(format!("--size must be a positive number, got {size}")));
+        return Err(Error::Option(format!(
+            "--size must be a positive number, got {size}"
+        )));
     }
     if let Some(m) = opts.max_size {
         if !(m.is_finite() && m > 0.0) {
-            return Err(Error::Option(format!("--max-size must be a positive number, got {m}")));
+            return Err(Error::Option(format!(
+                "--max-size must be a positive number, got {m}"
+            )));
         }
     }
     let kb_before = kb.stats;
@@ -129,7 +142,18 @@ pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, prog
     if let Err(e) = m.run(progress) {
         // A debugging aid: the state where meshing stopped, as a picture.
         if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
-            let loops: Vec<Vec<u32>> = m.front.live_loops().iter().map(|&l| m.front.loop_fvs(l).iter().map(|&f| m.front.node(f)).collect()).collect();
+            let loops: Vec<Vec<u32>> = m
+                .front
+                .live_loops()
+                .iter()
+                .map(|&l| {
+                    m.front
+                        .loop_fvs(l)
+                        .iter()
+                        .map(|&f| m.front.node(f))
+                        .collect()
+                })
+                .collect();
             let _ = std::fs::write(&path, output::to_svg(&m.mesh, &loops, "stopped"));
             let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
             let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
@@ -139,7 +163,12 @@ pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, prog
     let mut mesh = std::mem::take(&mut m.mesh);
     let mut trace = std::mem::take(&mut m.trace);
     let map = mesh.compact();
-    let remap = |x: i64| map.get(x as usize).copied().flatten().map_or(-1, |n| n as i64);
+    let remap = |x: i64| {
+        map.get(x as usize)
+            .copied()
+            .flatten()
+            .map_or(-1, |n| n as i64)
+    };
     for t in &mut trace {
         t.edge = t.edge.map(remap);
         for n in &mut t.element {
@@ -154,5 +183,11 @@ pub fn mesh_domain(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options, prog
     kb_stats.engine_queries -= kb_before.engine_queries;
     kb_stats.cached_queries -= kb_before.cached_queries;
     kb_stats.engine_time -= kb_before.engine_time;
-    Ok(MeshResult { mesh, trace, stats, quality, kb_stats })
+    Ok(MeshResult {
+        mesh,
+        trace,
+        stats,
+        quality,
+        kb_stats,
+    })
 }

@@ -41,15 +41,24 @@ fn run(cli: cli::Cli) -> Result<()> {
 
 fn mesh(args: cli::MeshArgs) -> Result<()> {
     let t0 = Instant::now();
-    let formats: Vec<(PathBuf, Format)> = args.outputs.iter().map(|p| Ok((p.clone(), Format::from_path(p)?))).collect::<Result<_>>()?;
+    let formats: Vec<(PathBuf, Format)> = args
+        .outputs
+        .iter()
+        .map(|p| Ok((p.clone(), Format::from_path(p)?)))
+        .collect::<Result<_>>()?;
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
     let mut kb = KnowledgeBase::builtin()?;
     for f in &args.kb {
         kb.consult_file(&f.to_string_lossy())?;
     }
-    let opts = Options::default().with_size(args.size).with_max_size(args.max_size);
+    let opts = Options::default()
+        .with_size(args.size)
+        .with_max_size(args.max_size);
     let result = mesh_domain(&domain, &mut kb, &opts, &mut |_| {})?;
-    let mut files: Vec<(PathBuf, String)> = formats.iter().map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f))).collect();
+    let mut files: Vec<(PathBuf, String)> = formats
+        .iter()
+        .map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f)))
+        .collect();
     if let Some(t) = &args.trace {
         let mut text = String::new();
         for step in &result.trace {

@@ -78,7 +78,8 @@ impl Mesh {
                 *n = map[*n as usize].expect("a node of an element is used");
             }
         }
-        self.boundary.retain(|e| map[e.a as usize].is_some() && map[e.b as usize].is_some());
+        self.boundary
+            .retain(|e| map[e.a as usize].is_some() && map[e.b as usize].is_some());
         for e in &mut self.boundary {
             e.a = map[e.a as usize].expect("kept");
             e.b = map[e.b as usize].expect("kept");
@@ -88,6 +89,8 @@ impl Mesh {
 
     /// Total area of the quads.
     pub fn area(&self) -> f64 {
-        (0..self.quads.len()).map(|q| crate::geometry::polygon_area(&self.quad_points(q))).sum()
+        (0..self.quads.len())
+            .map(|q| crate::geometry::polygon_area(&self.quad_points(q)))
+            .sum()
     }
 }

@@ -12,7 +12,10 @@ use std::collections::{BTreeMap, BinaryHeap, HashMap};
 use crate::boundary::Discretised;
 use crate::design::{place, Action, Corner, Neighbourhood};
 use crate::front::{Front, Fv};
-use crate::geometry::{interior_angle, orient2d, point_segment_distances, quad_angles, segments_intersect, SegmentRelation};
+use crate::geometry::{
+    interior_angle, orient2d, point_segment_distances, quad_angles, segments_intersect,
+    SegmentRelation,
+};
 use crate::kb::{term_text, KbError, KnowledgeBase};
 use crate::mesh::{Mesh, NodeKind};
 use crate::trace::TraceStep;
@@ -134,10 +137,22 @@ fn deg_round(x: f64) -> f64 {
 
 impl<'k> Mesher<'k> {
     /// Starts a run on a discretised domain with boundary size `size`.
-    pub fn new(kb: &'k mut KnowledgeBase, disc: Discretised, size: f64, area: f64) -> Result<Mesher<'k>, MeshError> {
+    pub fn new(
+        kb: &'k mut KnowledgeBase,
+        disc: Discretised,
+        size: f64,
+        area: f64,
+    ) -> Result<Mesher<'k>, MeshError> {
         let strategy = kb.strategy()?;
-        let rank = strategy.iter().enumerate().map(|(i, f)| (f.clone(), i as u32)).collect();
-        let set = Settings { rank, rounds: kb.bound("redesign_rounds")?.max(0.0) as usize };
+        let rank = strategy
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.clone(), i as u32))
+            .collect();
+        let set = Settings {
+            rank,
+            rounds: kb.bound("redesign_rounds")?.max(0.0) as usize,
+        };
         let mut front = Front::new(&disc.front_loop, size);
         front.index_all(&disc.mesh.nodes);
         let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
@@ -178,15 +193,33 @@ impl<'k> Mesher<'k> {
     }
 
     fn labels(&self, fv: Fv, mirrored: bool) -> Labels {
-        let (n1, n2) = if mirrored { (self.front.next(fv), fv) } else { (fv, self.front.next(fv)) };
+        let (n1, n2) = if mirrored {
+            (self.front.next(fv), fv)
+        } else {
+            (fv, self.front.next(fv))
+        };
         let n4 = self.back(n1, mirrored);
         let n7 = self.back(n4, mirrored);
         let n5 = self.along(n2, mirrored);
-        Labels { n7, n4, n1, n2, n5, mirrored }
+        Labels {
+            n7,
+            n4,
+            n1,
+            n2,
+            n5,
+            mirrored,
+        }
     }
 
     fn neighbourhood(&self, lab: &Labels) -> Neighbourhood {
-        Neighbourhood { p7: self.pos(lab.n7), p4: self.pos(lab.n4), p1: self.pos(lab.n1), p2: self.pos(lab.n2), p5: self.pos(lab.n5), side: if lab.mirrored { -1.0 } else { 1.0 } }
+        Neighbourhood {
+            p7: self.pos(lab.n7),
+            p4: self.pos(lab.n4),
+            p1: self.pos(lab.n1),
+            p2: self.pos(lab.n2),
+            p5: self.pos(lab.n5),
+            side: if lab.mirrored { -1.0 } else { 1.0 },
+        }
     }
 
     /// The context term of an edge, as the KB sees it, and its angles.
@@ -198,8 +231,21 @@ impl<'k> Mesher<'k> {
         let r = |x: f64| ((x / l1) * 100.0).round() / 100.0;
         let l5 = r((self.pos(lab.n1) - self.pos(lab.n4)).length());
         let l6 = r((self.pos(lab.n5) - self.pos(lab.n2)).length());
-        let ctx = format!("ctx({t7}, {t4}, {t1}, {t2}, {t5}, {}, {})", crate::kb::fmt_float(l5), crate::kb::fmt_float(l6));
-        let angles = [("theta7", t7), ("theta4", t4), ("theta1", t1), ("theta2", t2), ("theta5", t5)].into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+        let ctx = format!(
+            "ctx({t7}, {t4}, {t1}, {t2}, {t5}, {}, {})",
+            crate::kb::fmt_float(l5),
+            crate::kb::fmt_float(l6)
+        );
+        let angles = [
+            ("theta7", t7),
+            ("theta4", t4),
+            ("theta1", t1),
+            ("theta2", t2),
+            ("theta5", t5),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect();
         (ctx, angles)
     }
 
@@ -219,24 +265,42 @@ impl<'k> Mesher<'k> {
         let mirrored = key % 2 == 1;
         self.version[key as usize] += 1;
         self.design[key as usize] = None;
-        if !self.front.alive(fv) || self.front.loop_len(self.front.loop_of(fv)) <= 6 || self.fallback_only.contains(&self.front.loop_of(fv)) {
+        if !self.front.alive(fv)
+            || self.front.loop_len(self.front.loop_of(fv)) <= 6
+            || self.fallback_only.contains(&self.front.loop_of(fv))
+        {
             return Ok(());
         }
         let lab = self.labels(fv, mirrored);
         let (ctx, angles) = self.context(&lab);
         let q = format!("edge_design({ctx}, F, A), R = d(F, A).");
-        let Some(ans) = self.kb.ask_cached(&q, "R")? else { return Ok(()) };
+        let Some(ans) = self.kb.ask_cached(&q, "R")? else {
+            return Ok(());
+        };
         let (feature, action) = match &ans {
-            Term::Compound(d, args) if d == "d" && args.len() == 2 => (term_text(&args[0]), Action::from_term(&args[1])),
+            Term::Compound(d, args) if d == "d" && args.len() == 2 => {
+                (term_text(&args[0]), Action::from_term(&args[1]))
+            }
             _ => (String::new(), None),
         };
         let Some(action) = action.filter(|a| a.is_sound()) else {
-            return Err(KbError::Answer { query: "edge_design/3".into(), answer: term_text(&ans), expected: "d(Feature, Action) with a known, sound action".into() }.into());
+            return Err(KbError::Answer {
+                query: "edge_design/3".into(),
+                answer: term_text(&ans),
+                expected: "d(Feature, Action) with a known, sound action".into(),
+            }
+            .into());
         };
         let rank = *self.set.rank.get(&feature).unwrap_or(&u32::MAX);
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2));
         self.seq += 1;
-        self.heap.push(Reverse(Candidate { rank, layer, seq: self.seq, key, version: self.version[key as usize] }));
+        self.heap.push(Reverse(Candidate {
+            rank,
+            layer,
+            seq: self.seq,
+            key,
+            version: self.version[key as usize],
+        }));
         self.design[key as usize] = Some((feature, action, angles));
         Ok(())
     }
@@ -272,14 +336,21 @@ impl<'k> Mesher<'k> {
     /// Runs the recursion to the end.
     pub fn run(&mut self, progress: &mut dyn FnMut(usize)) -> Result<(), MeshError> {
         self.ensure_capacity();
-        let all: Vec<Fv> = self.front.live_loops().iter().flat_map(|&l| self.front.loop_fvs(l)).collect();
+        let all: Vec<Fv> = self
+            .front
+            .live_loops()
+            .iter()
+            .flat_map(|&l| self.front.loop_fvs(l))
+            .collect();
         for l in self.front.live_loops() {
             self.try_close_loop(l)?;
         }
         self.refresh(&all)?;
         loop {
             while let Some(Reverse(c)) = self.heap.pop() {
-                if self.version[c.key as usize] != c.version || self.failed[c.key as usize] == c.version {
+                if self.version[c.key as usize] != c.version
+                    || self.failed[c.key as usize] == c.version
+                {
                     continue;
                 }
                 let fv = c.key / 2;
@@ -304,13 +375,28 @@ impl<'k> Mesher<'k> {
             // of passes keeps a pathological loop from running forever.
             self.fallback_passes += 1;
             if self.debug_check {
-                let lens: Vec<usize> = self.front.live_loops().iter().map(|&l| self.front.loop_len(l)).collect();
-                eprintln!("fallback pass {} quads {} loops {:?} stats {:?}", self.fallback_passes, self.mesh.quads.len(), lens, self.stats);
+                let lens: Vec<usize> = self
+                    .front
+                    .live_loops()
+                    .iter()
+                    .map(|&l| self.front.loop_len(l))
+                    .collect();
+                eprintln!(
+                    "fallback pass {} quads {} loops {:?} stats {:?}",
+                    self.fallback_passes,
+                    self.mesh.quads.len(),
+                    lens,
+                    self.stats
+                );
             }
             if self.fallback_passes > 2000 {
                 let l = self.front.live_loops()[0];
                 let p = self.pos(self.front.loop_head(l));
-                return Err(MeshError::Stuck { len: self.front.loop_len(l), x: p.x, y: p.y });
+                return Err(MeshError::Stuck {
+                    len: self.front.loop_len(l),
+                    x: p.x,
+                    y: p.y,
+                });
             }
             let mut changed = false;
             for l in loops {
@@ -325,7 +411,11 @@ impl<'k> Mesher<'k> {
             if !changed {
                 let l = self.front.live_loops()[0];
                 let p = self.pos(self.front.loop_head(l));
-                return Err(MeshError::Stuck { len: self.front.loop_len(l), x: p.x, y: p.y });
+                return Err(MeshError::Stuck {
+                    len: self.front.loop_len(l),
+                    x: p.x,
+                    y: p.y,
+                });
             }
             let touched = self.front.take_touched();
             self.refresh(&touched)?;
@@ -432,7 +522,8 @@ impl<'k> Mesher<'k> {
             // corner keeps off front edges, a front node off new edges
             if gap > 0.0 && !is_quad_node(na) && !is_quad_node(nb) {
                 for i in 0..4 {
-                    if ids[i].is_none() && crate::geometry::point_segment_distance(p[i], a, b) < gap {
+                    if ids[i].is_none() && crate::geometry::point_segment_distance(p[i], a, b) < gap
+                    {
                         ok = false;
                         break 'edges;
                     }
@@ -441,7 +532,9 @@ impl<'k> Mesher<'k> {
             if gap > 0.0 && !is_quad_node(na) {
                 for i in 0..4 {
                     let new_edge = ids[i].is_none() || ids[(i + 1) % 4].is_none();
-                    if new_edge && crate::geometry::point_segment_distance(a, p[i], p[(i + 1) % 4]) < gap {
+                    if new_edge
+                        && crate::geometry::point_segment_distance(a, p[i], p[(i + 1) % 4]) < gap
+                    {
                         ok = false;
                         break 'edges;
                     }
@@ -458,7 +551,9 @@ impl<'k> Mesher<'k> {
                     SegmentRelation::Disjoint => {}
                     SegmentRelation::Touch => {
                         // only at a node the two share
-                        let shared = [qa, qb].iter().any(|q| q.is_some_and(|q| q == na || q == nb));
+                        let shared = [qa, qb]
+                            .iter()
+                            .any(|q| q.is_some_and(|q| q == na || q == nb));
                         if !shared {
                             ok = false;
                             break 'edges;
@@ -477,9 +572,17 @@ impl<'k> Mesher<'k> {
 
     /// The relations the redesign rules judge, as Prolog terms, and the
     /// nearest front occurrence to each new corner (a merge target).
-    fn relations(&mut self, q: &[QNode; 4], lab: &Labels, action: &Action) -> (Vec<String>, [Option<Fv>; 2]) {
+    fn relations(
+        &mut self,
+        q: &[QNode; 4],
+        lab: &Labels,
+        action: &Action,
+    ) -> (Vec<String>, [Option<Fv>; 2]) {
         let pos: Vec<DVec2> = q.iter().map(|&x| self.qpos(x)).collect();
-        let s = (0..4).map(|i| (pos[(i + 1) % 4] - pos[i]).length()).sum::<f64>() / 4.0;
+        let s = (0..4)
+            .map(|i| (pos[(i + 1) % 4] - pos[i]).length())
+            .sum::<f64>()
+            / 4.0;
         let mut rel = Vec::new();
         let mut targets = [None, None];
         let ids: Vec<Option<u32>> = q.iter().map(|&x| self.qnode_id(x)).collect();
@@ -488,7 +591,8 @@ impl<'k> Mesher<'k> {
         let r3 = |x: f64| (x * 1000.0).round() / 1000.0;
         // the element's corners in labelled order (unsigned: it is convex
         // when it matters), and what the remaining domain keeps
-        let qa: [f64; 4] = std::array::from_fn(|i| corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]));
+        let qa: [f64; 4] =
+            std::array::from_fn(|i| corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]));
         let th = |fv: Fv| self.front.angle(fv, &self.mesh.nodes);
         let small = |rel: &mut Vec<String>, what: &str, name: &str, deg: f64| {
             if deg < 90.0 {
@@ -520,7 +624,8 @@ impl<'k> Mesher<'k> {
             let name = if qi == 2 { "n3" } else { "n4" };
             let r = s;
             let mut near = std::mem::take(&mut self.scratch);
-            self.front.edges_near(c - DVec2::splat(r), c + DVec2::splat(r), &mut near);
+            self.front
+                .edges_near(c - DVec2::splat(r), c + DVec2::splat(r), &mut near);
             let mut best: Option<(f64, Fv)> = None;
             let mut worst_seg: Option<(f64, f64, f64)> = None;
             for &e in &near {
@@ -534,7 +639,11 @@ impl<'k> Mesher<'k> {
                 if is_quad_node(na) || is_quad_node(nb) {
                     continue;
                 }
-                let (v, h) = point_segment_distances(c, self.mesh.nodes[na as usize], self.mesh.nodes[nb as usize]);
+                let (v, h) = point_segment_distances(
+                    c,
+                    self.mesh.nodes[na as usize],
+                    self.mesh.nodes[nb as usize],
+                );
                 if worst_seg.is_none_or(|w| v + h < w.0 + w.1) {
                     worst_seg = Some((v, h, v + h));
                 }
@@ -542,12 +651,20 @@ impl<'k> Mesher<'k> {
             self.scratch = near;
             if let Some((d, e)) = best {
                 if d < s {
-                    rel.insert(0, format!("corner_node({name}, {}, {})", f(r3(d / s)), f(1.0)));
+                    rel.insert(
+                        0,
+                        format!("corner_node({name}, {}, {})", f(r3(d / s)), f(1.0)),
+                    );
                     targets[ci] = Some(e);
                 }
             }
             if let Some((v, h, _)) = worst_seg.filter(|w| w.0 < s && w.1 < s) {
-                rel.push(format!("corner_segment({name}, {}, {}, {})", f(r3(v / s)), f(r3(h / s)), f(1.0)));
+                rel.push(format!(
+                    "corner_segment({name}, {}, {}, {})",
+                    f(r3(v / s)),
+                    f(r3(h / s)),
+                    f(1.0)
+                ));
             }
         }
         // element edges near concave front nodes
@@ -577,7 +694,13 @@ impl<'k> Mesher<'k> {
             }
             self.scratch = near;
             if let Some((v, h, t)) = worst.filter(|w| w.0 < s && w.1 < s) {
-                rel.push(format!("edge_point({name}, {}, {}, {}, {})", f(r3(v / s)), f(r3(h / s)), f(1.0), f(deg_round(t))));
+                rel.push(format!(
+                    "edge_point({name}, {}, {}, {}, {})",
+                    f(r3(v / s)),
+                    f(r3(h / s)),
+                    f(1.0),
+                    f(deg_round(t))
+                ));
             }
         }
         (rel, targets)
@@ -586,25 +709,39 @@ impl<'k> Mesher<'k> {
     /// Tries the design for oriented edge `key`: place, redesign, check,
     /// commit. False when no valid element came of it.
     fn try_design(&mut self, key: u32) -> Result<bool, MeshError> {
-        let Some((feature, mut action, angles)) = self.design[key as usize].clone() else { return Ok(false) };
+        let Some((feature, mut action, angles)) = self.design[key as usize].clone() else {
+            return Ok(false);
+        };
         let mut lab = self.labels(key / 2, key % 2 == 1);
         let mut ctx = self.context(&lab).0;
         let mut fired = Vec::new();
         let mut merges: [Option<Fv>; 2] = [None, None];
         let mut q = None;
         for round in 0..=self.set.rounds {
-            let Some(el) = self.element(&action, &lab) else { break };
+            let Some(el) = self.element(&action, &lab) else {
+                break;
+            };
             let (rel, targets) = self.relations(&el, &lab, &action);
             q = Some(el);
             if round == self.set.rounds || rel.is_empty() {
                 break;
             }
-            let query = format!("redesign({ctx}, {action}, [{}], Rule, New), R = r(Rule, New).", rel.join(", "));
-            let Some(ans) = self.kb.ask_cached(&query, "R")? else { break };
+            let query = format!(
+                "redesign({ctx}, {action}, [{}], Rule, New), R = r(Rule, New).",
+                rel.join(", ")
+            );
+            let Some(ans) = self.kb.ask_cached(&query, "R")? else {
+                break;
+            };
             let Term::Compound(_, args) = &ans else { break };
             let rule = term_text(&args[0]);
             let Some(new) = Action::from_term(&args[1]).filter(|a| a.is_sound()) else {
-                return Err(KbError::Answer { query: format!("redesign rule {rule}"), answer: term_text(&args[1]), expected: "a known, sound action".into() }.into());
+                return Err(KbError::Answer {
+                    query: format!("redesign rule {rule}"),
+                    answer: term_text(&args[1]),
+                    expected: "a known, sound action".into(),
+                }
+                .into());
             };
             fired.push(rule);
             self.stats.redesigns += 1;
@@ -623,7 +760,9 @@ impl<'k> Mesher<'k> {
                     merges[slot] = targets[slot];
                     action = *a;
                     // the merged corner is fixed now: judge the rest
-                    let el = self.element(&action, &lab).map(|e| self.apply_merges(e, &merges));
+                    let el = self
+                        .element(&action, &lab)
+                        .map(|e| self.apply_merges(e, &merges));
                     q = el;
                     break;
                 }
@@ -631,12 +770,16 @@ impl<'k> Mesher<'k> {
             }
             q = None;
         }
-        let Some(mut el) = q.or_else(|| self.element(&action, &lab)) else { return Ok(false) };
+        let Some(mut el) = q.or_else(|| self.element(&action, &lab)) else {
+            return Ok(false);
+        };
         el = self.apply_merges(el, &merges);
         if !self.element_valid(&el, lab.mirrored) {
             // the merge made it invalid: try without
             if merges.iter().any(|m| m.is_some()) {
-                let Some(plain) = self.element(&action, &lab) else { return Ok(false) };
+                let Some(plain) = self.element(&action, &lab) else {
+                    return Ok(false);
+                };
                 if !self.element_valid(&plain, lab.mirrored) {
                     return Ok(false);
                 }
@@ -646,7 +789,9 @@ impl<'k> Mesher<'k> {
             }
         }
         let edge_nodes = (self.front.node(lab.n1), self.front.node(lab.n2));
-        let Some(ids) = self.commit_element(&el, &lab, &action)? else { return Ok(false) };
+        let Some(ids) = self.commit_element(&el, &lab, &action)? else {
+            return Ok(false);
+        };
         self.stats.designed += 1;
         let step = self.trace.len() + 1;
         self.trace.push(TraceStep {
@@ -662,7 +807,14 @@ impl<'k> Mesher<'k> {
     }
 
     fn labels_shifted(&self, lab: &Labels) -> Labels {
-        Labels { n7: lab.n4, n4: lab.n1, n1: lab.n2, n2: lab.n5, n5: self.along(lab.n5, lab.mirrored), mirrored: lab.mirrored }
+        Labels {
+            n7: lab.n4,
+            n4: lab.n1,
+            n1: lab.n2,
+            n2: lab.n5,
+            n5: self.along(lab.n5, lab.mirrored),
+            mirrored: lab.mirrored,
+        }
     }
 
     fn apply_merges(&self, mut el: [QNode; 4], merges: &[Option<Fv>; 2]) -> [QNode; 4] {
@@ -676,7 +828,12 @@ impl<'k> Mesher<'k> {
 
     /// Commits an element: new nodes, the front path replaced, pinches
     /// split. Undone (None) if a loop would be left odd or degenerate.
-    fn commit_element(&mut self, el: &[QNode; 4], lab: &Labels, action: &Action) -> Result<Option<[u32; 4]>, MeshError> {
+    fn commit_element(
+        &mut self,
+        el: &[QNode; 4],
+        lab: &Labels,
+        action: &Action,
+    ) -> Result<Option<[u32; 4]>, MeshError> {
         let nodes_before = self.mesh.nodes.len();
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2)) + 1;
         let id = |q: QNode, mesh: &mut Mesh, front: &Front| -> u32 {
@@ -697,7 +854,11 @@ impl<'k> Mesher<'k> {
             Action::A3 => (lab.n4, lab.n5, vec![]),
             _ => return Ok(None),
         };
-        let (a, b, mid) = if lab.mirrored { (b, a, mid.into_iter().rev().collect()) } else { (a, b, mid) };
+        let (a, b, mid) = if lab.mirrored {
+            (b, a, mid.into_iter().rev().collect())
+        } else {
+            (a, b, mid)
+        };
         let made = self.front.replace_path(a, b, &mid, layer);
         // split at merged corners
         let mut ok = true;
@@ -724,7 +885,12 @@ impl<'k> Mesher<'k> {
             }
             // no spike: the remaining domain keeps a usable angle at every
             // occurrence the element touched
-            ok = ok && self.front.touched_live().iter().all(|&fv| self.front.angle(fv, &self.mesh.nodes) > MIN_FRONT_ANGLE);
+            ok = ok
+                && self
+                    .front
+                    .touched_live()
+                    .iter()
+                    .all(|&fv| self.front.angle(fv, &self.mesh.nodes) > MIN_FRONT_ANGLE);
         }
         if !ok {
             self.front.rollback();
@@ -733,7 +899,11 @@ impl<'k> Mesher<'k> {
             return Ok(None);
         }
         self.front.commit(&self.mesh.nodes);
-        let ids = if lab.mirrored { [n4, n3, n2, n1] } else { [n1, n2, n3, n4] };
+        let ids = if lab.mirrored {
+            [n4, n3, n2, n1]
+        } else {
+            [n1, n2, n3, n4]
+        };
         self.mesh.quads.push(ids);
         if self.debug_check {
             self.debug_overlap(self.mesh.quads.len() - 1);
@@ -742,7 +912,11 @@ impl<'k> Mesher<'k> {
             self.stats.merges += 1;
         }
         let touched = self.front.take_touched();
-        let mut loops: Vec<u32> = touched.iter().filter(|&&t| self.front.alive(t)).map(|&t| self.front.loop_of(t)).collect();
+        let mut loops: Vec<u32> = touched
+            .iter()
+            .filter(|&&t| self.front.alive(t))
+            .map(|&t| self.front.loop_of(t))
+            .collect();
         loops.sort_unstable();
         loops.dedup();
         for l in loops {
@@ -763,17 +937,25 @@ impl<'k> Mesher<'k> {
         let p = self.mesh.quad_points(qi);
         for j in 0..qi {
             let r = self.mesh.quad_points(j);
-            let inside = |x: DVec2, q: &[DVec2; 4]| (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], x) > 0.0);
+            let inside =
+                |x: DVec2, q: &[DVec2; 4]| (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], x) > 0.0);
             let mut bad = p.iter().any(|&x| inside(x, &r)) || r.iter().any(|&x| inside(x, &p));
             for a in 0..4 {
                 for b in 0..4 {
-                    if segments_intersect(p[a], p[(a + 1) % 4], r[b], r[(b + 1) % 4]) == SegmentRelation::Cross {
+                    if segments_intersect(p[a], p[(a + 1) % 4], r[b], r[(b + 1) % 4])
+                        == SegmentRelation::Cross
+                    {
                         bad = true;
                     }
                 }
             }
             if bad {
-                eprintln!("DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}", self.mesh.quads[qi], self.mesh.quads[j], self.trace.len() + 1);
+                eprintln!(
+                    "DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}",
+                    self.mesh.quads[qi],
+                    self.mesh.quads[j],
+                    self.trace.len() + 1
+                );
             }
         }
     }
@@ -787,11 +969,21 @@ impl<'k> Mesher<'k> {
         let fvs = self.front.loop_fvs(l);
         let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
-        let angles: Vec<f64> = fvs.iter().map(|&f| deg_round(self.front.angle(f, &self.mesh.nodes))).collect();
-        let angle_map: BTreeMap<String, f64> = angles.iter().enumerate().map(|(i, a)| (format!("a{}", i + 1), *a)).collect();
+        let angles: Vec<f64> = fvs
+            .iter()
+            .map(|&f| deg_round(self.front.angle(f, &self.mesh.nodes)))
+            .collect();
+        let angle_map: BTreeMap<String, f64> = angles
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (format!("a{}", i + 1), *a))
+            .collect();
         if n == 4 {
             let q = [p[0], p[1], p[2], p[3]];
-            if convex_ok(&q) && distinct(&ids) && self.quad_clear(q, &ids.iter().map(|&x| Some(x)).collect::<Vec<_>>(), 0.0) {
+            if convex_ok(&q)
+                && distinct(&ids)
+                && self.quad_clear(q, &ids.iter().map(|&x| Some(x)).collect::<Vec<_>>(), 0.0)
+            {
                 let quad = [ids[0], ids[1], ids[2], ids[3]];
                 self.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
                 return Ok(true);
@@ -801,16 +993,29 @@ impl<'k> Mesher<'k> {
         if !distinct(&ids) {
             return Ok(false);
         }
-        let list = angles.iter().map(|a| crate::kb::fmt_float(*a)).collect::<Vec<_>>().join(", ");
+        let list = angles
+            .iter()
+            .map(|a| crate::kb::fmt_float(*a))
+            .collect::<Vec<_>>()
+            .join(", ");
         let q = format!("loop_patterns([{list}], Ps).");
-        let Some(Term::List(pats)) = self.kb.ask_cached(&q, "Ps")? else { return Ok(false) };
+        let Some(Term::List(pats)) = self.kb.ask_cached(&q, "Ps")? else {
+            return Ok(false);
+        };
         for pat in pats {
-            let Term::Compound(name, args) = &pat else { continue };
-            let Some(k) = args.first().and_then(crate::kb::term_number) else { continue };
+            let Term::Compound(name, args) = &pat else {
+                continue;
+            };
+            let Some(k) = args.first().and_then(crate::kb::term_number) else {
+                continue;
+            };
             let k = k as usize % 6;
             let at = |i: usize| (k + i) % 6; // the paper's N_{i+1}
             let (quads, new_pts): (Vec<[usize; 4]>, Vec<DVec2>) = match name.as_str() {
-                "pattern3" => (vec![[at(2), at(3), at(4), at(5)], [at(5), at(0), at(1), at(2)]], vec![]),
+                "pattern3" => (
+                    vec![[at(2), at(3), at(4), at(5)], [at(5), at(0), at(1), at(2)]],
+                    vec![],
+                ),
                 "pattern1" | "pattern2" => {
                     let c = if name == "pattern1" {
                         (p[at(1)] + p[at(3)] + p[at(5)]) / 3.0
@@ -818,7 +1023,11 @@ impl<'k> Mesher<'k> {
                         (3.0 * p[at(2)] + 3.0 * p[at(4)] + p[at(1)] + p[at(5)]) / 8.0
                     };
                     // 6 stands for the new node
-                    let quads = vec![[at(0), at(1), 6, at(5)], [at(1), at(2), at(3), 6], [at(3), at(4), at(5), 6]];
+                    let quads = vec![
+                        [at(0), at(1), 6, at(5)],
+                        [at(1), at(2), at(3), 6],
+                        [at(3), at(4), at(5), 6],
+                    ];
                     // where Eq. 5/6 gives a bad element, the builtin moves the
                     // node to the best place it finds in the loop
                     let c = best_centre(&p, &quads, c);
@@ -827,17 +1036,24 @@ impl<'k> Mesher<'k> {
                 _ => continue,
             };
             let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
-            let clear = quads.iter().all(|qd| convex_ok(&qd.map(pt))) && quads.iter().all(|qd| {
-                let qids: Vec<Option<u32>> = qd.iter().map(|&i| if i < 6 { Some(ids[i]) } else { None }).collect();
-                self.quad_clear(qd.map(pt), &qids, 0.0)
-            });
+            let clear = quads.iter().all(|qd| convex_ok(&qd.map(pt)))
+                && quads.iter().all(|qd| {
+                    let qids: Vec<Option<u32>> = qd
+                        .iter()
+                        .map(|&i| if i < 6 { Some(ids[i]) } else { None })
+                        .collect();
+                    self.quad_clear(qd.map(pt), &qids, 0.0)
+                });
             if clear {
                 let mut extra = Vec::new();
                 for &c in &new_pts {
                     extra.push(c);
                 }
                 let base = self.mesh.nodes.len() as u32;
-                let quads_ids: Vec<[u32; 4]> = quads.iter().map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 })).collect();
+                let quads_ids: Vec<[u32; 4]> = quads
+                    .iter()
+                    .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
+                    .collect();
                 self.close_with(l, quads_ids, &extra, "final6", term_text(&pat), angle_map);
                 return Ok(true);
             }
@@ -845,12 +1061,23 @@ impl<'k> Mesher<'k> {
         Ok(false)
     }
 
-    fn close_with(&mut self, l: u32, quads: Vec<[u32; 4]>, new_nodes: &[DVec2], feature: &str, action: String, angles: BTreeMap<String, f64>) {
+    fn close_with(
+        &mut self,
+        l: u32,
+        quads: Vec<[u32; 4]>,
+        new_nodes: &[DVec2],
+        feature: &str,
+        action: String,
+        angles: BTreeMap<String, f64>,
+    ) {
         for &c in new_nodes {
             self.mesh.add_node(c, NodeKind::Interior);
         }
         let head = self.front.loop_head(l);
-        let edge = [self.front.node(head), self.front.node(self.front.next(head))];
+        let edge = [
+            self.front.node(head),
+            self.front.node(self.front.next(head)),
+        ];
         self.front.begin();
         self.front.close_loop(l);
         self.front.commit(&self.mesh.nodes);
@@ -861,7 +1088,15 @@ impl<'k> Mesher<'k> {
             }
             self.stats.closed += 1;
             let step = self.trace.len() + 1;
-            self.trace.push(TraceStep { step, edge: edge.map(|x| x as i64), angles: angles.clone(), feature: feature.into(), action: action.clone(), redesign: vec![], element: q.iter().map(|&x| x as i64).collect() });
+            self.trace.push(TraceStep {
+                step,
+                edge: edge.map(|x| x as i64),
+                angles: angles.clone(),
+                feature: feature.into(),
+                action: action.clone(),
+                redesign: vec![],
+                element: q.iter().map(|&x| x as i64).collect(),
+            });
         }
     }
 
@@ -872,7 +1107,8 @@ impl<'k> Mesher<'k> {
     fn fallback_split(&mut self, l: u32) -> Result<bool, MeshError> {
         // a clear chord first, a tight one if there is none, then the ring;
         // last, any chord at all (bounded: it may not shrink the loop)
-        if self.chord_split(l, 1.0, true)? || self.chord_split(l, 0.2, true)? || self.close_ring(l) {
+        if self.chord_split(l, 1.0, true)? || self.chord_split(l, 0.2, true)? || self.close_ring(l)
+        {
             return Ok(true);
         }
         // Give the loop room: take back the elements along it, so the
@@ -894,7 +1130,10 @@ impl<'k> Mesher<'k> {
         let fvs = self.front.loop_fvs(l);
         let ids: Vec<u32> = fvs.iter().map(|&f| self.front.node(f)).collect();
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
-        let theta: Vec<f64> = fvs.iter().map(|&f| self.front.angle(f, &self.mesh.nodes)).collect();
+        let theta: Vec<f64> = fvs
+            .iter()
+            .map(|&f| self.front.angle(f, &self.mesh.nodes))
+            .collect();
         let elen: Vec<f64> = (0..n).map(|i| (p[(i + 1) % n] - p[i]).length()).collect();
         let mut cands: Vec<(f64, usize, usize, usize, f64)> = Vec::new();
         let stride = if n > 300 { n / 300 } else { 1 };
@@ -911,7 +1150,10 @@ impl<'k> Mesher<'k> {
                 }
                 // inside the wedges at both ends
                 let min_split = if strict { 15.0 } else { 5.0 };
-                let (Some(si), Some(sj)) = (wedge_split(p[(i + n - 1) % n], p[i], p[(i + 1) % n], d, theta[i]), wedge_split(p[(j + n - 1) % n], p[j], p[(j + 1) % n], -d, theta[j])) else {
+                let (Some(si), Some(sj)) = (
+                    wedge_split(p[(i + n - 1) % n], p[i], p[(i + 1) % n], d, theta[i]),
+                    wedge_split(p[(j + n - 1) % n], p[j], p[(j + 1) % n], -d, theta[j]),
+                ) else {
                     continue;
                 };
                 if si < min_split || sj < min_split {
@@ -922,7 +1164,11 @@ impl<'k> Mesher<'k> {
                 let parity = gap % 2;
                 let mut k = (t.round() as usize).max(1);
                 if k % 2 != parity {
-                    k = if (k as f64) < t || k == 1 { k + 1 } else { k - 1 };
+                    k = if (k as f64) < t || k == 1 {
+                        k + 1
+                    } else {
+                        k - 1
+                    };
                 }
                 if k == 0 {
                     k = 2;
@@ -937,14 +1183,25 @@ impl<'k> Mesher<'k> {
                 // a part of four segments is one element: the chord must be
                 // a single edge and the element convex
                 let quad_part = |from: usize, to: usize| -> bool {
-                    let q = [p[from % n], p[(from + 1) % n], p[(from + 2) % n], p[(from + 3) % n]];
+                    let q = [
+                        p[from % n],
+                        p[(from + 1) % n],
+                        p[(from + 2) % n],
+                        p[(from + 3) % n],
+                    ];
                     let _ = to;
                     convex_ok(&q)
                 };
-                if strict && ((gap + k == 4 && (k != 1 || !quad_part(i, j))) || (n - gap + k == 4 && (k != 1 || !quad_part(j, i))) || k >= gap || k >= n - gap) {
+                if strict
+                    && ((gap + k == 4 && (k != 1 || !quad_part(i, j)))
+                        || (n - gap + k == 4 && (k != 1 || !quad_part(j, i)))
+                        || k >= gap
+                        || k >= n - gap)
+                {
                     continue;
                 }
-                let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs() + 10.0 * (gap.min(n - gap) as f64 / n as f64);
+                let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs()
+                    + 10.0 * (gap.min(n - gap) as f64 / n as f64);
                 cands.push((score, i, j, k, h));
             }
         }
@@ -957,16 +1214,25 @@ impl<'k> Mesher<'k> {
                 break;
             }
         }
-        let Some((_, i, j, k)) = best else { return Ok(false) };
+        let Some((_, i, j, k)) = best else {
+            return Ok(false);
+        };
         let (pi, pj) = (p[i], p[j]);
-        let inner: Vec<u32> = (1..k).map(|s| self.mesh.add_node(pi + (pj - pi) * (s as f64 / k as f64), NodeKind::Interior)).collect();
+        let inner: Vec<u32> = (1..k)
+            .map(|s| {
+                self.mesh
+                    .add_node(pi + (pj - pi) * (s as f64 / k as f64), NodeKind::Interior)
+            })
+            .collect();
         let mut path: Vec<u32> = inner.clone();
         path.push(ids[j]);
         path.extend(inner.iter().rev());
         path.push(ids[i]);
         self.front.begin();
         let layer = self.front.layer(fvs[i]).max(self.front.layer(fvs[j]));
-        let made = self.front.replace_path(fvs[i], self.front.next(fvs[i]), &path, layer);
+        let made = self
+            .front
+            .replace_path(fvs[i], self.front.next(fvs[i]), &path, layer);
         let parts = self.front.split_pinch(made[k - 1], fvs[j]);
         if self.fallback_only.contains(&l) {
             self.fallback_only.extend(parts);
@@ -977,9 +1243,21 @@ impl<'k> Mesher<'k> {
         let mut angles = BTreeMap::new();
         angles.insert("theta1".to_string(), deg_round(theta[i]));
         angles.insert("theta2".to_string(), deg_round(theta[j]));
-        self.trace.push(TraceStep { step, edge: [ids[i] as i64, ids[j] as i64], angles, feature: "stuck".into(), action: format!("split({k})"), redesign: vec![], element: vec![] });
+        self.trace.push(TraceStep {
+            step,
+            edge: [ids[i] as i64, ids[j] as i64],
+            angles,
+            feature: "stuck".into(),
+            action: format!("split({k})"),
+            redesign: vec![],
+            element: vec![],
+        });
         let touched = self.front.take_touched();
-        let mut loops: Vec<u32> = touched.iter().filter(|&&t| self.front.alive(t)).map(|&t| self.front.loop_of(t)).collect();
+        let mut loops: Vec<u32> = touched
+            .iter()
+            .filter(|&&t| self.front.alive(t))
+            .map(|&t| self.front.loop_of(t))
+            .collect();
         loops.sort_unstable();
         loops.dedup();
         for l in loops {
@@ -1002,7 +1280,16 @@ impl<'k> Mesher<'k> {
                 owner.insert((q[i], q[(i + 1) % 4]), qi);
             }
         }
-        let mut victims: Vec<usize> = self.front.loop_fvs(l).iter().filter_map(|&fv| owner.get(&(self.front.node(self.front.next(fv)), self.front.node(fv))).copied()).collect();
+        let mut victims: Vec<usize> = self
+            .front
+            .loop_fvs(l)
+            .iter()
+            .filter_map(|&fv| {
+                owner
+                    .get(&(self.front.node(self.front.next(fv)), self.front.node(fv)))
+                    .copied()
+            })
+            .collect();
         victims.sort_unstable();
         victims.dedup();
         if victims.is_empty() {
@@ -1015,7 +1302,11 @@ impl<'k> Mesher<'k> {
             let mut found = None;
             for i in 0..4 {
                 let (b, a) = (q[i], q[(i + 1) % 4]);
-                if let Some(fa) = self.front.occurrences(a).find(|&fa| self.front.node(self.front.next(fa)) == b) {
+                if let Some(fa) = self
+                    .front
+                    .occurrences(a)
+                    .find(|&fa| self.front.node(self.front.next(fa)) == b)
+                {
                     found = Some((i, fa));
                     break;
                 }
@@ -1044,7 +1335,12 @@ impl<'k> Mesher<'k> {
                     }
                 }
             }
-            if self.front.touched_loops().iter().any(|&t| self.front.loop_len(t) % 2 == 1) {
+            if self
+                .front
+                .touched_loops()
+                .iter()
+                .any(|&t| self.front.loop_len(t) % 2 == 1)
+            {
                 self.front.rollback();
                 continue;
             }
@@ -1059,7 +1355,15 @@ impl<'k> Mesher<'k> {
             let q = self.mesh.quads.swap_remove(qi);
             self.stats.unmeshed += 1;
             let step = self.trace.len() + 1;
-            self.trace.push(TraceStep { step, edge: [q[0] as i64, q[1] as i64], angles: BTreeMap::new(), feature: "stuck".into(), action: "unmesh".into(), redesign: vec![], element: q.iter().map(|&x| x as i64).collect() });
+            self.trace.push(TraceStep {
+                step,
+                edge: [q[0] as i64, q[1] as i64],
+                angles: BTreeMap::new(),
+                feature: "stuck".into(),
+                action: "unmesh".into(),
+                redesign: vec![],
+                element: q.iter().map(|&x| x as i64).collect(),
+            });
         }
         let touched = self.front.take_touched();
         for &t in &touched {
@@ -1077,7 +1381,8 @@ impl<'k> Mesher<'k> {
     fn chord_clear(&mut self, a: DVec2, b: DVec2, na: u32, nb: u32, h: f64) -> bool {
         let mut near = std::mem::take(&mut self.scratch);
         let pad = DVec2::splat(h * 0.25);
-        self.front.edges_near(a.min(b) - pad, a.max(b) + pad, &mut near);
+        self.front
+            .edges_near(a.min(b) - pad, a.max(b) + pad, &mut near);
         let mut ok = true;
         for &e in &near {
             let (x, y) = (self.front.node(e), self.front.node(self.front.next(e)));
@@ -1124,7 +1429,10 @@ impl<'k> Mesher<'k> {
             if rmax <= 0.0 {
                 return None;
             }
-            let inner: Vec<DVec2> = p.iter().map(|&x| c + (x - c).normalize_or_zero() * rmax * t).collect();
+            let inner: Vec<DVec2> = p
+                .iter()
+                .map(|&x| c + (x - c).normalize_or_zero() * rmax * t)
+                .collect();
             if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
                 return None;
             }
@@ -1134,7 +1442,12 @@ impl<'k> Mesher<'k> {
                 if !convex_ok(&q) {
                     return None;
                 }
-                worst = worst.min(quad_angles(q).iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
+                worst = worst.min(
+                    quad_angles(q)
+                        .iter()
+                        .map(|&x| x.min(180.0 - x))
+                        .fold(f64::MAX, f64::min),
+                );
             }
             Some((worst, inner))
         };
@@ -1144,7 +1457,8 @@ impl<'k> Mesher<'k> {
         let steps = 48;
         for ix in 1..steps {
             for iy in 1..steps {
-                let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
+                let c =
+                    lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
                 for t in [0.25, 0.5, 0.75] {
                     if let Some(r) = ring(c, t) {
                         if best.as_ref().is_none_or(|b| r.0 > b.0) {
@@ -1165,7 +1479,16 @@ impl<'k> Mesher<'k> {
             for &x in &inner {
                 self.mesh.add_node(x, NodeKind::Interior);
             }
-            let qs: Vec<[u32; 4]> = (0..n).map(|i| [ids[i], ids[(i + 1) % n], base + ((i + 1) % n) as u32, base + i as u32]).collect();
+            let qs: Vec<[u32; 4]> = (0..n)
+                .map(|i| {
+                    [
+                        ids[i],
+                        ids[(i + 1) % n],
+                        base + ((i + 1) % n) as u32,
+                        base + i as u32,
+                    ]
+                })
+                .collect();
             let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
             self.stats.fallback_splits += 1;
             let layer = self.front.layer(fvs[0]) + 1;
@@ -1218,7 +1541,6 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
     best.1
 }
 
-
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
 fn corner_angle(a: DVec2, v: DVec2, b: DVec2) -> f64 {
     let (x, y) = (a - v, b - v);
@@ -1236,7 +1558,8 @@ fn distinct(ids: &[u32]) -> bool {
 }
 
 fn convex_ok(q: &[DVec2; 4]) -> bool {
-    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) && quad_angles(*q).iter().all(|&a| (1.0..=179.0).contains(&a))
+    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0)
+        && quad_angles(*q).iter().all(|&a| (1.0..=179.0).contains(&a))
 }
 
 /// How a chord leaving `v` in direction `d` splits the interior angle
@@ -1258,16 +1581,29 @@ mod tests {
 
     #[test]
     fn z_shaped_six_loop_splits_by_a_chord() {
-        let pts = [(540.02, 802.49), (511.33, 801.06), (488.95, 838.29), (533.6, 838.29), (511.23, 875.53), (535.24, 875.53)];
+        let pts = [
+            (540.02, 802.49),
+            (511.33, 801.06),
+            (488.95, 838.29),
+            (533.6, 838.29),
+            (511.23, 875.53),
+            (535.24, 875.53),
+        ];
         let mut mesh = Mesh::default();
         for (x, y) in pts {
             mesh.add_node(DVec2::new(x, -y), NodeKind::Boundary);
         }
-        let disc = Discretised { mesh, front_loop: vec![0, 1, 2, 3, 4, 5], cuts: vec![] };
+        let disc = Discretised {
+            mesh,
+            front_loop: vec![0, 1, 2, 3, 4, 5],
+            cuts: vec![],
+        };
         let mut kb = KnowledgeBase::builtin().unwrap();
         let mut m = Mesher::new(&mut kb, disc, 30.0, 1000.0).unwrap();
         let r = m.run(&mut |_| {});
-        for t in &m.trace { eprintln!("{}", t.to_json_line()); }
+        for t in &m.trace {
+            eprintln!("{}", t.to_json_line());
+        }
         r.unwrap();
         assert!(m.mesh.quads.len() >= 3);
     }

@@ -41,7 +41,12 @@ pub enum OutputError {
 impl Format {
     /// The format of a path, by its extension.
     pub fn from_path(path: &Path) -> Result<Format, OutputError> {
-        match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .as_deref()
+        {
             Some("msh") => Ok(Format::Msh),
             Some("vtk") => Ok(Format::Vtk),
             Some("svg") => Ok(Format::Svg),
@@ -71,7 +76,10 @@ pub fn write_all(files: &[(PathBuf, String)]) -> Result<(), OutputError> {
                 let _ = std::fs::remove_file(t);
             }
             let _ = std::fs::remove_file(&tmp);
-            return Err(OutputError::Io { path: path.display().to_string(), source });
+            return Err(OutputError::Io {
+                path: path.display().to_string(),
+                source,
+            });
         }
         temps.push(tmp);
     }
@@ -80,14 +88,20 @@ pub fn write_all(files: &[(PathBuf, String)]) -> Result<(), OutputError> {
             for t in &temps {
                 let _ = std::fs::remove_file(t);
             }
-            return Err(OutputError::Io { path: path.display().to_string(), source });
+            return Err(OutputError::Io {
+                path: path.display().to_string(),
+                source,
+            });
         }
     }
     Ok(())
 }
 
 fn tmp_name(path: &Path) -> PathBuf {
-    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    let mut name = path
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
     name.push(format!(".tmp-{}", std::process::id()));
     path.with_file_name(name)
 }
@@ -147,7 +161,14 @@ pub fn to_msh(mesh: &Mesh) -> String {
     }
     let _ = writeln!(s, "2 1 3 {}", mesh.quads.len());
     for q in &mesh.quads {
-        let _ = writeln!(s, "{tag} {} {} {} {}", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        let _ = writeln!(
+            s,
+            "{tag} {} {} {} {}",
+            q[0] + 1,
+            q[1] + 1,
+            q[2] + 1,
+            q[3] + 1
+        );
         tag += 1;
     }
     s.push_str("$EndElements\n");
@@ -158,7 +179,11 @@ pub fn to_msh(mesh: &Mesh) -> String {
 pub fn to_vtk(mesh: &Mesh, name: &str) -> String {
     let mut s = String::with_capacity(48 * (mesh.nodes.len() + mesh.quads.len()));
     let title: String = name.chars().filter(|c| *c != '\n').take(200).collect();
-    let _ = writeln!(s, "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double", mesh.nodes.len());
+    let _ = writeln!(
+        s,
+        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double",
+        mesh.nodes.len()
+    );
     for p in &mesh.nodes {
         let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
     }
@@ -189,27 +214,66 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{pw:.0}\" height=\"{ph:.0}\" viewBox=\"0 0 {pw:.1} {ph:.1}\">");
     let _ = writeln!(s, "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>");
-    let bad = (0..mesh.quads.len()).filter(|&i| quad_angles(mesh.quad_points(i)).iter().any(|a| !(45.0..=135.0).contains(a))).count();
-    let esc = |t: &str| t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let bad = (0..mesh.quads.len())
+        .filter(|&i| {
+            quad_angles(mesh.quad_points(i))
+                .iter()
+                .any(|a| !(45.0..=135.0).contains(a))
+        })
+        .count();
+    let esc = |t: &str| {
+        t.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+    };
     let _ = writeln!(s, "<text x=\"20\" y=\"30\" font-family=\"sans-serif\" font-size=\"16\">{}: {} quads, {} outside [45, 135] deg (red)</text>", esc(title), mesh.quads.len(), bad);
-    let _ = writeln!(s, "<g stroke=\"#222\" stroke-width=\"{stroke:.2}\" stroke-linejoin=\"round\">");
+    let _ = writeln!(
+        s,
+        "<g stroke=\"#222\" stroke-width=\"{stroke:.2}\" stroke-linejoin=\"round\">"
+    );
     for i in 0..mesh.quads.len() {
         let p = mesh.quad_points(i);
-        let fill = if quad_angles(p).iter().any(|a| !(45.0..=135.0).contains(a)) { "#f08080" } else { "#e8f0fa" };
-        let pts: Vec<String> = p.iter().map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y))).collect();
+        let fill = if quad_angles(p).iter().any(|a| !(45.0..=135.0).contains(a)) {
+            "#f08080"
+        } else {
+            "#e8f0fa"
+        };
+        let pts: Vec<String> = p
+            .iter()
+            .map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y)))
+            .collect();
         let _ = writeln!(s, "<polygon points=\"{}\" fill=\"{fill}\"/>", pts.join(" "));
     }
     s.push_str("</g>\n");
-    let _ = writeln!(s, "<g stroke=\"#000\" stroke-width=\"{:.2}\" fill=\"none\">", stroke * 3.0);
+    let _ = writeln!(
+        s,
+        "<g stroke=\"#000\" stroke-width=\"{:.2}\" fill=\"none\">",
+        stroke * 3.0
+    );
     for e in &mesh.boundary {
         let (a, b) = (mesh.nodes[e.a as usize], mesh.nodes[e.b as usize]);
-        let _ = writeln!(s, "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>", tx(a.x), ty(a.y), tx(b.x), ty(b.y));
+        let _ = writeln!(
+            s,
+            "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>",
+            tx(a.x),
+            ty(a.y),
+            tx(b.x),
+            ty(b.y)
+        );
     }
     s.push_str("</g>\n");
     if !front.is_empty() {
-        let _ = writeln!(s, "<g stroke=\"#1060e0\" stroke-width=\"{:.2}\" fill=\"none\">", stroke * 3.0);
+        let _ = writeln!(
+            s,
+            "<g stroke=\"#1060e0\" stroke-width=\"{:.2}\" fill=\"none\">",
+            stroke * 3.0
+        );
         for lp in front {
-            let pts: Vec<String> = lp.iter().map(|&n| mesh.nodes[n as usize]).map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y))).collect();
+            let pts: Vec<String> = lp
+                .iter()
+                .map(|&n| mesh.nodes[n as usize])
+                .map(|q| format!("{:.2},{:.2}", tx(q.x), ty(q.y)))
+                .collect();
             let _ = writeln!(s, "<polygon points=\"{}\"/>", pts.join(" "));
         }
         s.push_str("</g>\n");

@@ -45,7 +45,13 @@ pub fn scaled_jacobian(q: [DVec2; 4]) -> f64 {
 /// Aspect ratio and taper of a quad (both >= 1).
 pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
     let e: Vec<f64> = (0..4).map(|i| (q[(i + 1) % 4] - q[i]).length()).collect();
-    let ratio = |a: f64, b: f64| if a.min(b) <= 0.0 { f64::INFINITY } else { a.max(b) / a.min(b) };
+    let ratio = |a: f64, b: f64| {
+        if a.min(b) <= 0.0 {
+            f64::INFINITY
+        } else {
+            a.max(b) / a.min(b)
+        }
+    };
     let taper = ratio(e[0], e[2]).max(ratio(e[1], e[3]));
     let m02 = ((q[0] + q[1]) / 2.0 - (q[2] + q[3]) / 2.0).length();
     let m13 = ((q[1] + q[2]) / 2.0 - (q[3] + q[0]) / 2.0).length();
@@ -54,13 +60,24 @@ pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
 
 /// The quality figures of a mesh.
 pub fn measure(mesh: &Mesh) -> Quality {
-    let mut q = Quality { quads: mesh.quads.len(), min_angle: 180.0, max_angle: 0.0, pct_45_135: 0.0, min_scaled_jacobian: 1.0, max_aspect: 1.0, max_taper: 1.0, max_size_jump: 1.0 };
+    let mut q = Quality {
+        quads: mesh.quads.len(),
+        min_angle: 180.0,
+        max_angle: 0.0,
+        pct_45_135: 0.0,
+        min_scaled_jacobian: 1.0,
+        max_aspect: 1.0,
+        max_taper: 1.0,
+        max_size_jump: 1.0,
+    };
     let mut good = 0usize;
     let mut areas = Vec::with_capacity(mesh.quads.len());
     for i in 0..mesh.quads.len() {
         let p = mesh.quad_points(i);
         let a = quad_angles(p);
-        let (lo, hi) = a.iter().fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
+        let (lo, hi) = a
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
         q.min_angle = q.min_angle.min(lo);
         q.max_angle = q.max_angle.max(hi);
         if lo >= 45.0 && hi <= 135.0 {
@@ -108,7 +125,13 @@ pub fn angle_histogram(mesh: &Mesh) -> String {
             continue;
         }
         let bar = "#".repeat((b * 50).div_ceil(max));
-        s.push_str(&format!("{:>3}-{:<3} {:>8} {}\n", i * 10, i * 10 + 10, b, bar));
+        s.push_str(&format!(
+            "{:>3}-{:<3} {:>8} {}\n",
+            i * 10,
+            i * 10 + 10,
+            b,
+            bar
+        ));
     }
     s
 }

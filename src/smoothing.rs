@@ -29,7 +29,10 @@ fn badness(q: [DVec2; 4]) -> f64 {
             return f64::INFINITY;
         }
     }
-    quad_angles(q).iter().map(|&a| (45.0 - a).max(a - 135.0).max(0.0)).fold(0.0, f64::max)
+    quad_angles(q)
+        .iter()
+        .map(|&a| (45.0 - a).max(a - 135.0).max(0.0))
+        .fold(0.0, f64::max)
 }
 
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
@@ -47,18 +50,25 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
             let mut sum = DVec2::ZERO;
             for &(q, c) in &around[n] {
                 let quad = mesh.quads[q as usize];
-                sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize] + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
+                sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize]
+                    + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
             }
             let target = sum / (2.0 * around[n].len() as f64);
             let old = mesh.nodes[n];
             if (target - old).length_squared() == 0.0 {
                 continue;
             }
-            let before = around[n].iter().map(|&(q, _)| badness(mesh.quad_points(q as usize))).fold(0.0, f64::max);
+            let before = around[n]
+                .iter()
+                .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                .fold(0.0, f64::max);
             // try the full move, then half of it
             for t in [1.0, 0.5] {
                 mesh.nodes[n] = old + (target - old) * t;
-                let after = around[n].iter().map(|&(q, _)| badness(mesh.quad_points(q as usize))).fold(0.0, f64::max);
+                let after = around[n]
+                    .iter()
+                    .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                    .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;
                     break;
@@ -79,7 +89,11 @@ mod tests {
         let mut m = Mesh::default();
         for y in 0..3 {
             for x in 0..3 {
-                let kind = if x == 1 && y == 1 { NodeKind::Interior } else { NodeKind::Boundary };
+                let kind = if x == 1 && y == 1 {
+                    NodeKind::Interior
+                } else {
+                    NodeKind::Boundary
+                };
                 m.add_node(DVec2::new(x as f64, y as f64), kind);
             }
         }

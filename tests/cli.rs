@@ -4,7 +4,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn freemesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_freemesh")).args(args).output().expect("the binary runs")
+    Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -19,9 +22,20 @@ fn stderr(o: &Output) -> String {
 
 /// Reads a mesh written as JSON: nodes and quads.
 fn read_json_mesh(path: &Path) -> (Vec<[f64; 2]>, Vec<[usize; 4]>) {
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let nodes = v["nodes"].as_array().unwrap().iter().map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]).collect();
-    let quads = v["quads"].as_array().unwrap().iter().map(|q| std::array::from_fn(|i| q[i].as_u64().unwrap() as usize)).collect();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let nodes = v["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+        .collect();
+    let quads = v["quads"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|q| std::array::from_fn(|i| q[i].as_u64().unwrap() as usize))
+        .collect();
     (nodes, quads)
 }
 
@@ -35,20 +49,31 @@ fn assert_valid(nodes: &[[f64; 2]], quads: &[[usize; 4]]) -> f64 {
         for i in 0..4 {
             let (a, b, c) = (nodes[q[i]], nodes[q[(i + 1) % 4]], nodes[q[(i + 2) % 4]]);
             let cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-            assert!(cross > 0.0, "quad {q:?} is not convex and counter-clockwise");
+            assert!(
+                cross > 0.0,
+                "quad {q:?} is not convex and counter-clockwise"
+            );
             area += (a[0] * b[1] - b[0] * a[1]) / 2.0;
             let k = (q[i].min(q[(i + 1) % 4]), q[i].max(q[(i + 1) % 4]));
             *edges.entry(k).or_insert(0) += 1;
         }
     }
-    assert!(edges.values().all(|&c| c <= 2), "an edge is shared by three quads");
+    assert!(
+        edges.values().all(|&c| c <= 2),
+        "an edge is shared by three quads"
+    );
     area
 }
 
 #[test]
 fn square_meshes_into_sixteen_unit_quads() {
     let out = tmp("square.json");
-    let o = freemesh(&["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap()]);
+    let o = freemesh(&[
+        "mesh",
+        "tests/inputs/square.json",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let (nodes, quads) = read_json_mesh(&out);
     assert_eq!(quads.len(), 16);
@@ -59,11 +84,17 @@ fn square_meshes_into_sixteen_unit_quads() {
 #[test]
 fn every_benchmark_domain_gives_a_valid_all_quad_mesh() {
     let dir = Path::new("../shared/bench/domains");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir).expect("../shared/bench/domains beside the clone").map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("../shared/bench/domains beside the clone")
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     assert!(files.len() >= 9);
     for f in files {
-        let out = tmp(&format!("{}.json", f.file_stem().unwrap().to_string_lossy()));
+        let out = tmp(&format!(
+            "{}.json",
+            f.file_stem().unwrap().to_string_lossy()
+        ));
         let o = freemesh(&["mesh", f.to_str().unwrap(), "-o", out.to_str().unwrap()]);
         assert!(o.status.success(), "{}: {}", f.display(), stderr(&o));
         let (nodes, quads) = read_json_mesh(&out);
@@ -74,27 +105,57 @@ fn every_benchmark_domain_gives_a_valid_all_quad_mesh() {
 #[test]
 fn several_outputs_are_written_in_their_formats() {
     let (msh, vtk, svg) = (tmp("l.msh"), tmp("l.vtk"), tmp("l.svg"));
-    let o = freemesh(&["mesh", "tests/inputs/l-shape.json", "-o", msh.to_str().unwrap(), "-o", vtk.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
+    let o = freemesh(&[
+        "mesh",
+        "tests/inputs/l-shape.json",
+        "-o",
+        msh.to_str().unwrap(),
+        "-o",
+        vtk.to_str().unwrap(),
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let m = std::fs::read_to_string(&msh).unwrap();
     assert!(m.starts_with("$MeshFormat\n4.1 0 8\n"));
     assert!(m.contains("2 1 3 "), "quads as element type 3 in one block");
-    assert!(std::fs::read_to_string(&vtk).unwrap().contains("DATASET UNSTRUCTURED_GRID"));
+    assert!(std::fs::read_to_string(&vtk)
+        .unwrap()
+        .contains("DATASET UNSTRUCTURED_GRID"));
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
 }
 
 #[test]
 fn trace_has_one_record_per_element_naming_kb_features() {
     let (out, trace) = (tmp("t.json"), tmp("t.jsonl"));
-    let o = freemesh(&["mesh", "tests/inputs/l-shape.json", "-o", out.to_str().unwrap(), "--trace", trace.to_str().unwrap()]);
+    let o = freemesh(&[
+        "mesh",
+        "tests/inputs/l-shape.json",
+        "-o",
+        out.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let (_, quads) = read_json_mesh(&out);
-    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&trace).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    let elements = lines.iter().filter(|l| l["element"].as_array().unwrap().len() == 4 && l["action"] != "unmesh").count();
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&trace)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let elements = lines
+        .iter()
+        .filter(|l| l["element"].as_array().unwrap().len() == 4 && l["action"] != "unmesh")
+        .count();
     assert!(elements >= quads.len());
-    assert!(lines.iter().any(|l| l["feature"] == "b2"), "the corner feature b2 drives the rows");
+    assert!(
+        lines.iter().any(|l| l["feature"] == "b2"),
+        "the corner feature b2 drives the rows"
+    );
     for l in &lines {
-        for key in ["step", "edge", "angles", "feature", "action", "redesign", "element"] {
+        for key in [
+            "step", "edge", "angles", "feature", "action", "redesign", "element",
+        ] {
             assert!(l.get(key).is_some(), "trace line without {key}");
         }
     }
@@ -102,22 +163,73 @@ fn trace_has_one_record_per_element_naming_kb_features() {
 
 #[test]
 fn a_strategy_given_with_kb_changes_the_trace_and_the_mesh() {
-    let (m1, t1, m2, t2) = (tmp("s1.json"), tmp("s1.jsonl"), tmp("s2.json"), tmp("s2.jsonl"));
-    let a = freemesh(&["mesh", "tests/inputs/plate-hole.json", "-o", m1.to_str().unwrap(), "--trace", t1.to_str().unwrap()]);
-    let b = freemesh(&["mesh", "tests/inputs/plate-hole.json", "-o", m2.to_str().unwrap(), "--trace", t2.to_str().unwrap(), "--kb", "tests/kb/strategy-b2-first.pl"]);
-    assert!(a.status.success() && b.status.success(), "{}{}", stderr(&a), stderr(&b));
-    let (ta, tb) = (std::fs::read_to_string(&t1).unwrap(), std::fs::read_to_string(&t2).unwrap());
+    let (m1, t1, m2, t2) = (
+        tmp("s1.json"),
+        tmp("s1.jsonl"),
+        tmp("s2.json"),
+        tmp("s2.jsonl"),
+    );
+    let a = freemesh(&[
+        "mesh",
+        "tests/inputs/plate-hole.json",
+        "-o",
+        m1.to_str().unwrap(),
+        "--trace",
+        t1.to_str().unwrap(),
+    ]);
+    let b = freemesh(&[
+        "mesh",
+        "tests/inputs/plate-hole.json",
+        "-o",
+        m2.to_str().unwrap(),
+        "--trace",
+        t2.to_str().unwrap(),
+        "--kb",
+        "tests/kb/strategy-b2-first.pl",
+    ]);
+    assert!(
+        a.status.success() && b.status.success(),
+        "{}{}",
+        stderr(&a),
+        stderr(&b)
+    );
+    let (ta, tb) = (
+        std::fs::read_to_string(&t1).unwrap(),
+        std::fs::read_to_string(&t2).unwrap(),
+    );
     assert_ne!(ta, tb);
-    let count = |t: &str, f: &str| t.lines().filter(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["feature"] == f).count();
-    assert!(count(&tb, "b2") > count(&ta, "b2"), "b2 first in the strategy: more elements come of b2");
-    assert_ne!(std::fs::read_to_string(&m1).unwrap(), std::fs::read_to_string(&m2).unwrap());
+    let count = |t: &str, f: &str| {
+        t.lines()
+            .filter(|l| serde_json::from_str::<serde_json::Value>(l).unwrap()["feature"] == f)
+            .count()
+    };
+    assert!(
+        count(&tb, "b2") > count(&ta, "b2"),
+        "b2 first in the strategy: more elements come of b2"
+    );
+    assert_ne!(
+        std::fs::read_to_string(&m1).unwrap(),
+        std::fs::read_to_string(&m2).unwrap()
+    );
 }
 
 #[test]
 fn the_same_input_gives_the_same_mesh_and_trace() {
-    let (m1, t1, m2, t2) = (tmp("d1.json"), tmp("d1.jsonl"), tmp("d2.json"), tmp("d2.jsonl"));
+    let (m1, t1, m2, t2) = (
+        tmp("d1.json"),
+        tmp("d1.jsonl"),
+        tmp("d2.json"),
+        tmp("d2.jsonl"),
+    );
     for (m, t) in [(&m1, &t1), (&m2, &t2)] {
-        let o = freemesh(&["mesh", "tests/inputs/plate-hole.json", "-o", m.to_str().unwrap(), "--trace", t.to_str().unwrap()]);
+        let o = freemesh(&[
+            "mesh",
+            "tests/inputs/plate-hole.json",
+            "-o",
+            m.to_str().unwrap(),
+            "--trace",
+            t.to_str().unwrap(),
+        ]);
         assert!(o.status.success());
     }
     assert_eq!(std::fs::read(&m1).unwrap(), std::fs::read(&m2).unwrap());
@@ -130,20 +242,45 @@ fn assert_refused(args: &[&str], out: &Path, expect: &str) {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let err = stderr(&o);
     assert_eq!(err.lines().count(), 1, "one line: {err}");
-    assert!(err.starts_with("error: ") && err.contains(expect), "{err} should name {expect}");
+    assert!(
+        err.starts_with("error: ") && err.contains(expect),
+        "{err} should name {expect}"
+    );
     assert!(!out.exists(), "no output on error");
 }
 
 #[test]
 fn a_broken_kb_file_is_refused_with_its_name_and_line() {
     let out = tmp("broken.msh");
-    assert_refused(&["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap(), "--kb", "tests/kb/broken.pl"], &out, "broken.pl:3");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/broken.pl",
+        ],
+        &out,
+        "broken.pl:3",
+    );
 }
 
 #[test]
 fn a_kb_rule_with_an_undefined_action_is_refused() {
     let out = tmp("undef.msh");
-    assert_refused(&["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap(), "--kb", "tests/kb/undefined-action.pl"], &out, "undefined_action(a9/2)");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/undefined-action.pl",
+        ],
+        &out,
+        "undefined_action(a9/2)",
+    );
 }
 
 #[test]
@@ -163,18 +300,35 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
         let dom = tmp(&format!("bad{i}.json"));
         std::fs::write(&dom, text).unwrap();
         let out = tmp(&format!("bad{i}.msh"));
-        assert_refused(&["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap()], &out, expect);
+        assert_refused(
+            &["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap()],
+            &out,
+            expect,
+        );
     }
 }
 
 #[test]
 fn a_missing_domain_file_is_an_error_not_a_panic() {
     let out = tmp("missing.msh");
-    assert_refused(&["mesh", "no/such/domain.json", "-o", out.to_str().unwrap()], &out, "no/such/domain.json");
+    assert_refused(
+        &["mesh", "no/such/domain.json", "-o", out.to_str().unwrap()],
+        &out,
+        "no/such/domain.json",
+    );
 }
 
 #[test]
 fn an_unknown_output_format_is_refused_before_meshing() {
     let out = tmp("mesh.xyz");
-    assert_refused(&["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap()], &out, "unknown output format");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &out,
+        "unknown output format",
+    );
 }

@@ -7,10 +7,20 @@ use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
 fn trace_text(path: &std::path::Path) -> String {
     let domain = Domain::from_file(&path.to_string_lossy()).expect("a valid test domain");
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
-    let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).expect("the test domain meshes");
-    let mut s = format!("{} quads, {} nodes, {} fallback splits\n", r.mesh.quads.len(), r.mesh.nodes.len(), r.stats.fallback_splits);
+    let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
+        .expect("the test domain meshes");
+    let mut s = format!(
+        "{} quads, {} nodes, {} fallback splits\n",
+        r.mesh.quads.len(),
+        r.mesh.nodes.len(),
+        r.stats.fallback_splits
+    );
     for t in &r.trace {
-        let angles: Vec<String> = t.angles.iter().map(|(k, v)| format!("{k}={v:.0}")).collect();
+        let angles: Vec<String> = t
+            .angles
+            .iter()
+            .map(|(k, v)| format!("{k}={v:.0}"))
+            .collect();
         s.push_str(&format!(
             "{:>3} {:?} {} -> {} {}{} {:?}\n",
             t.step,
@@ -18,7 +28,11 @@ fn trace_text(path: &std::path::Path) -> String {
             t.feature,
             t.action,
             angles.join(" "),
-            if t.redesign.is_empty() { String::new() } else { format!(" redesign {}", t.redesign.join(",")) },
+            if t.redesign.is_empty() {
+                String::new()
+            } else {
+                format!(" redesign {}", t.redesign.join(","))
+            },
             t.element
         ));
     }
