@@ -911,6 +911,13 @@ impl<'k> Mesher<'k> {
         if action_is_merge(el) {
             self.stats.merges += 1;
         }
+        self.after_change()?;
+        Ok(Some(ids))
+    }
+
+    /// After a committed change: close the loops it left with four or six
+    /// segments, and re-classify the edges round everything it touched.
+    fn after_change(&mut self) -> Result<(), MeshError> {
         let touched = self.front.take_touched();
         let mut loops: Vec<u32> = touched
             .iter()
@@ -922,11 +929,9 @@ impl<'k> Mesher<'k> {
         for l in loops {
             self.try_close_loop(l)?;
         }
-        let more = self.front.take_touched();
         let mut all = touched;
-        all.extend(more);
-        self.refresh(&all)?;
-        Ok(Some(ids))
+        all.extend(self.front.take_touched());
+        self.refresh(&all)
     }
 
     fn touched_loops(&self) -> Vec<u32> {
@@ -1252,22 +1257,7 @@ impl<'k> Mesher<'k> {
             redesign: vec![],
             element: vec![],
         });
-        let touched = self.front.take_touched();
-        let mut loops: Vec<u32> = touched
-            .iter()
-            .filter(|&&t| self.front.alive(t))
-            .map(|&t| self.front.loop_of(t))
-            .collect();
-        loops.sort_unstable();
-        loops.dedup();
-        for l in loops {
-            self.try_close_loop(l)?;
-        }
-        let more = self.front.take_touched();
-        let mut all = touched;
-        all.extend(more);
-        self.ensure_capacity();
-        self.refresh(&all)?;
+        self.after_change()?;
         Ok(true)
     }
 
