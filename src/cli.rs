@@ -17,6 +17,25 @@ pub struct Cli {
 pub enum Command {
     /// Mesh a domain file (JSON, see domain-format.md).
     Mesh(MeshArgs),
+    /// Print the boundary features of a domain's initial loop: each node's
+    /// angle and concavity, each edge's feature and the KB's action.
+    Features(FeaturesArgs),
+}
+
+/// Arguments of `freemesh features`.
+#[derive(Debug, clap::Args)]
+pub struct FeaturesArgs {
+    /// The domain file.
+    pub domain: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Target boundary segment length (replaces the domain's size).
+    #[arg(long)]
+    pub size: Option<f64>,
+    /// A knowledge-base file consulted after the built-in rules.
+    #[arg(long = "kb")]
+    pub kb: Vec<PathBuf>,
 }
 
 /// Arguments of `freemesh mesh`.

@@ -108,6 +108,24 @@ pub struct MeshResult {
     pub kb_stats: kb::KbStats,
 }
 
+/// The boundary features of a domain's initial loop (after the cutting
+/// lines), as the KB recognises them.
+pub fn domain_features(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    size: Option<f64>,
+) -> Result<mesher::FrontFeatures, Error> {
+    let size = size.unwrap_or(domain.size);
+    if !(size.is_finite() && size > 0.0) {
+        return Err(Error::Option(format!(
+            "--size must be a positive number, got {size}"
+        )));
+    }
+    let disc = boundary::discretise(domain, size)?;
+    let mut m = mesher::Mesher::new(kb, disc, size, 1.0)?;
+    Ok(m.front_features()?)
+}
+
 /// Meshes a domain with the knowledge base, smooths and checks the mesh.
 pub fn mesh_domain(
     domain: &Domain,

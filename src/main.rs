@@ -36,7 +36,48 @@ fn main() -> ExitCode {
 fn run(cli: cli::Cli) -> Result<()> {
     match cli.command {
         cli::Command::Mesh(args) => mesh(args),
+        cli::Command::Features(args) => features(args),
     }
+}
+
+fn features(args: cli::FeaturesArgs) -> Result<()> {
+    use std::io::Write;
+    let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    let mut kb = KnowledgeBase::builtin()?;
+    for f in &args.kb {
+        kb.consult_file(&f.to_string_lossy())?;
+    }
+    let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&f)?)?;
+        return Ok(());
+    }
+    writeln!(out, "nodes: id x y angle concave")?;
+    for n in &f.nodes {
+        writeln!(
+            out,
+            "{:>5} {:>12.6} {:>12.6} {:>5} {}",
+            n.node,
+            n.x,
+            n.y,
+            n.angle,
+            if n.concave { "concave" } else { "" }
+        )?;
+    }
+    writeln!(out, "edges: N1 -> N2 feature action   (ctx)")?;
+    for e in &f.edges {
+        writeln!(
+            out,
+            "{:>5} -> {:<5} {:<6} {:<28} {}",
+            e.n1,
+            e.n2,
+            e.feature.as_deref().unwrap_or("-"),
+            e.action.as_deref().unwrap_or("-"),
+            e.ctx
+        )?;
+    }
+    Ok(())
 }
 
 fn mesh(args: cli::MeshArgs) -> Result<()> {

@@ -59,6 +59,45 @@ pub struct MeshStats {
     pub unmeshed: usize,
 }
 
+/// A front node as the feature recognition sees it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct NodeFeature {
+    /// Node id.
+    pub node: u32,
+    /// Coordinates.
+    pub x: f64,
+    /// Coordinates.
+    pub y: f64,
+    /// Interior angle of the remaining domain (deg, rounded).
+    pub angle: f64,
+    /// Whether the KB calls it a concave point.
+    pub concave: bool,
+}
+
+/// A front edge read from N1 to N2, with the KB's feature and action.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EdgeFeature {
+    /// N1.
+    pub n1: u32,
+    /// N2.
+    pub n2: u32,
+    /// The context term the KB was asked with.
+    pub ctx: String,
+    /// The feature, if any.
+    pub feature: Option<String>,
+    /// The action the KB would take.
+    pub action: Option<String>,
+}
+
+/// The features of a front.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct FrontFeatures {
+    /// Nodes in loop order.
+    pub nodes: Vec<NodeFeature>,
+    /// Edges, each in both readings.
+    pub edges: Vec<EdgeFeature>,
+}
+
 /// Settings read from the KB once per run.
 #[derive(Debug, Clone)]
 struct Settings {
@@ -331,6 +370,50 @@ impl<'k> Mesher<'k> {
             self.classify(k)?;
         }
         Ok(())
+    }
+
+    /// The boundary features of the current front, as the KB sees them:
+    /// every node with its angle and whether it is concave, every edge in
+    /// both readings with its feature and action (None: no feature).
+    pub fn front_features(&mut self) -> Result<FrontFeatures, MeshError> {
+        let mut out = FrontFeatures::default();
+        for l in self.front.live_loops() {
+            for fv in self.front.loop_fvs(l) {
+                let n = self.front.node(fv);
+                let angle = deg_round(self.front.angle(fv, &self.mesh.nodes));
+                let concave = !self
+                    .kb
+                    .run(&format!("angle_concave({}).", crate::kb::fmt_float(angle)))?
+                    .is_empty();
+                out.nodes.push(NodeFeature {
+                    node: n,
+                    x: self.mesh.nodes[n as usize].x,
+                    y: self.mesh.nodes[n as usize].y,
+                    angle,
+                    concave,
+                });
+                for mirrored in [false, true] {
+                    let lab = self.labels(fv, mirrored);
+                    let (ctx, _) = self.context(&lab);
+                    let q = format!("edge_design({ctx}, F, A), R = d(F, A).");
+                    let ans = self.kb.ask_cached(&q, "R")?;
+                    let (feature, action) = match &ans {
+                        Some(Term::Compound(_, args)) if args.len() == 2 => {
+                            (Some(term_text(&args[0])), Some(term_text(&args[1])))
+                        }
+                        _ => (None, None),
+                    };
+                    out.edges.push(EdgeFeature {
+                        n1: self.front.node(lab.n1),
+                        n2: self.front.node(lab.n2),
+                        ctx,
+                        feature,
+                        action,
+                    });
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// Runs the recursion to the end.

@@ -332,3 +332,33 @@ fn an_unknown_output_format_is_refused_before_meshing() {
         "unknown output format",
     );
 }
+
+#[test]
+fn features_lists_concave_corners_and_the_kb_actions() {
+    let o = freemesh(&[
+        "features",
+        "../shared/bench/domains/fig1-polygon.json",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let nodes = v["nodes"].as_array().unwrap();
+    // fig1's polygon has two reflex corners: (4, 2.5) and (1.5, 2.5)
+    let concave: Vec<(f64, f64)> = nodes
+        .iter()
+        .filter(|n| n["concave"] == true)
+        .map(|n| (n["x"].as_f64().unwrap(), n["y"].as_f64().unwrap()))
+        .collect();
+    assert!(
+        concave.contains(&(4.0, 2.5)) && concave.contains(&(1.5, 2.5)),
+        "{concave:?}"
+    );
+    let edges = v["edges"].as_array().unwrap();
+    assert_eq!(edges.len(), 2 * nodes.len(), "each edge in both readings");
+    assert!(edges
+        .iter()
+        .any(|e| e["feature"] == "b1" && e["action"].as_str().unwrap().starts_with("a1(")));
+    assert!(edges
+        .iter()
+        .any(|e| e["feature"] == "b2" && e["action"].as_str().unwrap().starts_with("a2(")));
+}
