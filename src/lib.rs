@@ -195,6 +195,7 @@ pub fn mesh_domain(
     }
     let stats = m.stats;
     smoothing::laplace(&mut mesh, opts.smoothing_passes);
+    smoothing::untangle_angles(&mut mesh, 10);
     check::check_mesh(&mesh, area)?;
     let quality = quality::measure(&mesh);
     let mut kb_stats = kb.stats;

@@ -80,6 +80,75 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     kept
 }
 
+/// The worst corner of the elements round a node: (badness, -smallest
+/// sine of a corner), smaller is better; infinite if one is not convex.
+fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
+    let mut bad: f64 = 0.0;
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        let p = mesh.quad_points(q as usize);
+        let b = badness(p);
+        if !b.is_finite() {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        bad = bad.max(b);
+        min_sin = min_sin.min(crate::quality::scaled_jacobian(p));
+    }
+    (bad, -min_sin)
+}
+
+/// Moves each free node next to an element with a corner outside
+/// [45, 135] to the place, found by a compass search, where the worst
+/// corner round it is best; `passes` sweeps. Never makes an element worse
+/// than it was, never inverts one. Returns the moves kept.
+pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
+    let around = node_elements(mesh);
+    let mut moved = 0;
+    for _ in 0..passes {
+        let mut any = false;
+        for n in 0..mesh.nodes.len() {
+            if mesh.kinds[n] != NodeKind::Interior || around[n].is_empty() {
+                continue;
+            }
+            let start = worst_around(mesh, &around[n]);
+            if start.0 == 0.0 && start.1 < -0.8 {
+                continue; // every corner round it is fine
+            }
+            let old = mesh.nodes[n];
+            let h = around[n]
+                .iter()
+                .map(|&(q, c)| {
+                    let quad = mesh.quads[q as usize];
+                    (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - old).length()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let mut best = (start, old);
+            let mut step = 0.25 * h;
+            for _ in 0..6 {
+                let centre = best.1;
+                for k in 0..8 {
+                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                    mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
+                    let w = worst_around(mesh, &around[n]);
+                    if w < best.0 {
+                        best = (w, mesh.nodes[n]);
+                    }
+                }
+                step *= 0.5;
+            }
+            mesh.nodes[n] = best.1;
+            if best.1 != old {
+                moved += 1;
+                any = true;
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    moved
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -101,6 +170,23 @@ mod tests {
         m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
         laplace(&mut m, 20);
         assert!((m.nodes[4] - DVec2::new(1.0, 1.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn compass_search_repairs_a_pinched_corner() {
+        let mut m = Mesh::default();
+        for y in 0..3 {
+            for x in 0..3 {
+                let kind = if x == 1 && y == 1 { NodeKind::Interior } else { NodeKind::Boundary };
+                m.add_node(DVec2::new(x as f64, y as f64), kind);
+            }
+        }
+        // the centre pushed near a corner: elements with corners of ~160 deg
+        m.nodes[4] = DVec2::new(0.6, 0.6); // a corner of 157 deg at the centre
+        m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+        assert!(untangle_angles(&mut m, 5) > 0);
+        let worst = (0..4).flat_map(|q| quad_angles(m.quad_points(q))).fold(0.0, f64::max);
+        assert!(worst <= 135.0 + 1e-6, "worst corner {worst}");
     }
 
     #[test]
