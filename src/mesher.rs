@@ -154,6 +154,9 @@ pub struct Mesher<'k> {
     /// Counters.
     pub stats: MeshStats,
     max_elements: usize,
+    /// No element edge shorter than this: a third of the shortest input
+    /// segment, so elements cannot shrink without end.
+    min_edge: f64,
     scratch: Vec<Fv>,
     /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
     /// quadratic, for debugging the rules).
@@ -195,6 +198,7 @@ impl<'k> Mesher<'k> {
         let mut front = Front::new(&disc.front_loop, size);
         front.index_all(&disc.mesh.nodes);
         let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
+        let shortest = disc.mesh.boundary.iter().map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length()).fold(size, f64::min);
         Ok(Mesher {
             kb,
             mesh: disc.mesh,
@@ -207,7 +211,8 @@ impl<'k> Mesher<'k> {
             seq: 0,
             trace: Vec::new(),
             stats: MeshStats::default(),
-            max_elements: (estimate * 20.0) as usize + 1000,
+            max_elements: (estimate * 4.0) as usize + 1000,
+            min_edge: shortest / 3.0,
             scratch: Vec::new(),
             debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
             fallback_passes: 0,
@@ -575,7 +580,7 @@ impl<'k> Mesher<'k> {
         // No sliver: every edge at least a quarter of the base edge, so a
         // rule that keeps shrinking an element cannot run away.
         let base = (self.qpos(q[1]) - self.qpos(q[0])).length();
-        if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < 0.25 * base) {
+        if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (0.25 * base).max(self.min_edge)) {
             return false;
         }
         self.quad_clear(p, &ids, 0.15 * base)
