@@ -390,22 +390,27 @@ impl Front {
         made
     }
 
+    /// Exchanges the successors of two occurrences of one node: on one
+    /// loop this cuts it in two at the node, on two loops it joins them.
+    fn swap_next(&mut self, u: Fv, v: Fv) {
+        let un = self.occ[u as usize].next;
+        let vn = self.occ[v as usize].next;
+        for fv in [u, v, un, vn] {
+            self.save(fv);
+        }
+        self.occ[u as usize].next = vn;
+        self.occ[vn as usize].prev = u;
+        self.occ[v as usize].next = un;
+        self.occ[un as usize].prev = v;
+    }
+
     /// Splits a loop at a pinch: `u` and `v` are two occurrences of the same
     /// node on one loop. Afterwards each heads its own loop; a loop of two
     /// edges between the same two nodes (an edge now inside the mesh) is
     /// dropped. Returns the loops that remain, of the two.
     pub fn split_pinch(&mut self, u: Fv, v: Fv) -> Vec<u32> {
         let l = self.occ[u as usize].lp;
-        let un = self.occ[u as usize].next;
-        let vn = self.occ[v as usize].next;
-        self.save(u);
-        self.save(v);
-        self.save(un);
-        self.save(vn);
-        self.occ[u as usize].next = vn;
-        self.occ[vn as usize].prev = u;
-        self.occ[v as usize].next = un;
-        self.occ[un as usize].prev = v;
+        self.swap_next(u, v);
         // Walk both cycles in step to find the shorter, relabel it.
         let total = self.loops[l as usize].len;
         let (mut a, mut b) = (u, v);
@@ -466,16 +471,7 @@ impl Front {
     /// Returns the loop that remains.
     pub fn join_pinch(&mut self, u: Fv, v: Fv) -> u32 {
         let (lu, lv) = (self.occ[u as usize].lp, self.occ[v as usize].lp);
-        let un = self.occ[u as usize].next;
-        let vn = self.occ[v as usize].next;
-        self.save(u);
-        self.save(v);
-        self.save(un);
-        self.save(vn);
-        self.occ[u as usize].next = vn;
-        self.occ[vn as usize].prev = u;
-        self.occ[v as usize].next = un;
-        self.occ[un as usize].prev = v;
+        self.swap_next(u, v);
         let mut fv = v;
         loop {
             self.save(fv);

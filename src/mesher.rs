@@ -198,7 +198,12 @@ impl<'k> Mesher<'k> {
         let mut front = Front::new(&disc.front_loop, size);
         front.index_all(&disc.mesh.nodes);
         let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
-        let shortest = disc.mesh.boundary.iter().map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length()).fold(size, f64::min);
+        let shortest = disc
+            .mesh
+            .boundary
+            .iter()
+            .map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length())
+            .fold(size, f64::min);
         Ok(Mesher {
             kb,
             mesh: disc.mesh,
@@ -950,14 +955,13 @@ impl<'k> Mesher<'k> {
         let made = self.front.replace_path(a, b, &mid, layer);
         // split at merged corners
         let mut ok = true;
-        for (qi, q) in el.iter().enumerate().skip(2) {
+        for q in el.iter().skip(2) {
             let QNode::Merged(target) = *q else { continue };
             let node = self.front.node(target);
             let Some(&occ) = made.iter().find(|&&m| self.front.node(m) == node) else {
                 ok = false;
                 break;
             };
-            let _ = qi;
             if !self.front.alive(target) || self.front.loop_of(target) != self.front.loop_of(occ) {
                 ok = false;
                 break;
@@ -1404,9 +1408,6 @@ impl<'k> Mesher<'k> {
                         continue;
                     }
                     if self.front.loop_of(o) == self.front.loop_of(m) {
-                        let before = self.front.loop_of(m);
-                        let total = self.front.loop_len(before);
-                        let _ = total;
                         self.front.split_pinch(m, o);
                     } else {
                         self.front.join_pinch(m, o);

@@ -177,7 +177,11 @@ mod tests {
         let mut m = Mesh::default();
         for y in 0..3 {
             for x in 0..3 {
-                let kind = if x == 1 && y == 1 { NodeKind::Interior } else { NodeKind::Boundary };
+                let kind = if x == 1 && y == 1 {
+                    NodeKind::Interior
+                } else {
+                    NodeKind::Boundary
+                };
                 m.add_node(DVec2::new(x as f64, y as f64), kind);
             }
         }
@@ -185,7 +189,9 @@ mod tests {
         m.nodes[4] = DVec2::new(0.6, 0.6); // a corner of 157 deg at the centre
         m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
         assert!(untangle_angles(&mut m, 5) > 0);
-        let worst = (0..4).flat_map(|q| quad_angles(m.quad_points(q))).fold(0.0, f64::max);
+        let worst = (0..4)
+            .flat_map(|q| quad_angles(m.quad_points(q)))
+            .fold(0.0, f64::max);
         assert!(worst <= 135.0 + 1e-6, "worst corner {worst}");
     }
 
