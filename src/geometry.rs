@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn square_corner_of_ccw_loop_is_90_degrees() {
-        // Walking (1,0) -> (0,0)... no: a ccw square visits (0,0) between (0,1) and (1,0).
+        // A counter-clockwise square visits (0,0) between (0,1) and (1,0).
         let a = interior_angle(DVec2::new(0.0, 1.0), DVec2::ZERO, DVec2::X);
         assert!((a.to_degrees() - 90.0).abs() < 1e-9);
     }

@@ -1248,8 +1248,8 @@ impl<'k> Mesher<'k> {
                 // inside the wedges at both ends
                 let min_split = if strict { 15.0 } else { 5.0 };
                 let (Some(si), Some(sj)) = (
-                    wedge_split(p[(i + n - 1) % n], p[i], p[(i + 1) % n], d, theta[i]),
-                    wedge_split(p[(j + n - 1) % n], p[j], p[(j + 1) % n], -d, theta[j]),
+                    wedge_split(p[i], p[(i + 1) % n], d, theta[i]),
+                    wedge_split(p[j], p[(j + 1) % n], -d, theta[j]),
                 ) else {
                     continue;
                 };
@@ -1279,19 +1279,17 @@ impl<'k> Mesher<'k> {
                 }
                 // a part of four segments is one element: the chord must be
                 // a single edge and the element convex
-                let quad_part = |from: usize, to: usize| -> bool {
-                    let q = [
+                let quad_part = |from: usize| -> bool {
+                    convex_ok(&[
                         p[from % n],
                         p[(from + 1) % n],
                         p[(from + 2) % n],
                         p[(from + 3) % n],
-                    ];
-                    let _ = to;
-                    convex_ok(&q)
+                    ])
                 };
                 if strict
-                    && ((gap + k == 4 && (k != 1 || !quad_part(i, j)))
-                        || (n - gap + k == 4 && (k != 1 || !quad_part(j, i)))
+                    && ((gap + k == 4 && (k != 1 || !quad_part(i)))
+                        || (n - gap + k == 4 && (k != 1 || !quad_part(j)))
                         || k >= gap
                         || k >= n - gap)
                 {
@@ -1641,12 +1639,12 @@ fn convex_ok(q: &[DVec2; 4]) -> bool {
         && quad_angles(*q).iter().all(|&a| (1.0..=179.0).contains(&a))
 }
 
-/// How a chord leaving `v` in direction `d` splits the interior angle
+/// How a chord leaving `v` (whose next loop node is `next`) in direction
+/// `d` splits the interior angle
 /// `theta` (deg) at `v`: the smaller part in degrees, or None if it leaves
 /// the domain.
-fn wedge_split(prev: DVec2, v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Option<f64> {
+fn wedge_split(v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Option<f64> {
     // a: the ccw turn from the direction to next round to d
-    let _ = prev;
     let a = interior_angle(v + d, v, next).to_degrees();
     if a <= 1.0 || a >= theta - 1.0 {
         return None;
