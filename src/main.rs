@@ -40,13 +40,19 @@ fn run(cli: cli::Cli) -> Result<()> {
     }
 }
 
+/// The built-in knowledge base with the user's `--kb` files consulted.
+fn load_kb(files: &[PathBuf]) -> Result<KnowledgeBase> {
+    let mut kb = KnowledgeBase::builtin()?;
+    for f in files {
+        kb.consult_file(&f.to_string_lossy())?;
+    }
+    Ok(kb)
+}
+
 fn features(args: cli::FeaturesArgs) -> Result<()> {
     use std::io::Write;
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
-    let mut kb = KnowledgeBase::builtin()?;
-    for f in &args.kb {
-        kb.consult_file(&f.to_string_lossy())?;
-    }
+    let mut kb = load_kb(&args.kb)?;
     let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -88,10 +94,7 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         .map(|p| Ok((p.clone(), Format::from_path(p)?)))
         .collect::<Result<_>>()?;
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
-    let mut kb = KnowledgeBase::builtin()?;
-    for f in &args.kb {
-        kb.consult_file(&f.to_string_lossy())?;
-    }
+    let mut kb = load_kb(&args.kb)?;
     let opts = Options::default()
         .with_size(args.size)
         .with_max_size(args.max_size);

@@ -153,8 +153,8 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
 mod tests {
     use super::*;
 
-    #[test]
-    fn centre_node_of_a_two_by_two_block_moves_to_the_middle() {
+    /// Four unit squares round one free centre node (id 4).
+    fn two_by_two_block() -> Mesh {
         let mut m = Mesh::default();
         for y in 0..3 {
             for x in 0..3 {
@@ -166,28 +166,22 @@ mod tests {
                 m.add_node(DVec2::new(x as f64, y as f64), kind);
             }
         }
-        m.nodes[4] = DVec2::new(1.3, 0.8);
         m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+        m
+    }
+
+    #[test]
+    fn centre_node_of_a_two_by_two_block_moves_to_the_middle() {
+        let mut m = two_by_two_block();
+        m.nodes[4] = DVec2::new(1.3, 0.8);
         laplace(&mut m, 20);
         assert!((m.nodes[4] - DVec2::new(1.0, 1.0)).length() < 1e-6);
     }
 
     #[test]
     fn compass_search_repairs_a_pinched_corner() {
-        let mut m = Mesh::default();
-        for y in 0..3 {
-            for x in 0..3 {
-                let kind = if x == 1 && y == 1 {
-                    NodeKind::Interior
-                } else {
-                    NodeKind::Boundary
-                };
-                m.add_node(DVec2::new(x as f64, y as f64), kind);
-            }
-        }
-        // the centre pushed near a corner: elements with corners of ~160 deg
+        let mut m = two_by_two_block();
         m.nodes[4] = DVec2::new(0.6, 0.6); // a corner of 157 deg at the centre
-        m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
         assert!(untangle_angles(&mut m, 5) > 0);
         let worst = (0..4)
             .flat_map(|q| quad_angles(m.quad_points(q)))
