@@ -18,7 +18,7 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
 ```
 ?- feature_action(b2, ctx(180, 180, 90, 180, 180, 1, 1), A).
    A = a2(90, 90).
-?- edge_design(ctx(180, 180, 180, 180, 180, 1, 1), F, A).
+?- context_design(ctx(180, 180, 180, 180, 180, 1, 1), F, A).
    F = b1, A = a1(90, 90, 1.0, 1.0).
 ```
 */
@@ -56,19 +56,19 @@ corner_share_(Theta, Phi) :-
     ;   K is max(2, round(Theta / 90)), Phi is Theta / K
     ).
 
-%% edge_design(+Ctx, -Feature, -Action)
+%% context_design(+Ctx, -Feature, -Action)
 %
 % The first feature of the strategy the edge shows, and its action.
-edge_design(Ctx, F, A) :-
-    edge_feature(Ctx, F),
+context_design(Ctx, F, A) :-
+    context_feature(Ctx, F),
     feature_action(F, Ctx, A),
     !.
 
-%% edge_designs(+Ctxs, -Designs)
+%% context_designs(+Ctxs, -Designs)
 %
 % Batch form for the host: one d(Feature, Action) per context, or none
 % when the edge shows no feature.
-edge_designs([], []).
-edge_designs([C | Cs], [D | Ds]) :-
-    (   edge_design(C, F, A) -> D = d(F, A) ; D = none ),
-    edge_designs(Cs, Ds).
+context_designs([], []).
+context_designs([C | Cs], [D | Ds]) :-
+    (   context_design(C, F, A) -> D = d(F, A) ; D = none ),
+    context_designs(Cs, Ds).

@@ -17,7 +17,7 @@ swapped, the front walked backwards), so that a feature anchored at the
 right end of an edge is found as well.
 
 ```
-?- edge_feature(ctx(90, 180, 90, 180, 90, 1, 1), F).
+?- context_feature(ctx(90, 180, 90, 180, 90, 1, 1), F).
    F = b4 ;  F = b5 ;  F = b2.
 ?- feature(b1, ctx(180, 180, 180, 180, 180, 1, 1)).
    true.
@@ -55,10 +55,10 @@ feature(b5, ctx(_, _, T1, T2, T5, _, _)) :-
 
 open_(U, T) :- T >= U, T =< 240.
 
-%% edge_feature(+Ctx, -Feature)
+%% context_feature(+Ctx, -Feature)
 %
 % True iff Feature is a feature of the edge, in the order of the strategy.
-edge_feature(Ctx, F) :-
+context_feature(Ctx, F) :-
     strategy(S),
     member(F, S),
     feature(F, Ctx).

@@ -20,6 +20,25 @@ pub enum Command {
     /// Print the boundary features of a domain's initial loop: each node's
     /// angle and concavity, each edge's feature and the KB's action.
     Features(FeaturesArgs),
+    /// An interactive Prolog toplevel over the knowledge base and the live
+    /// front of a domain being meshed (:help inside lists the commands).
+    /// With piped input it reads one query or command a line and prints
+    /// no prompts, so a session can be scripted.
+    Repl(ReplArgs),
+}
+
+/// Arguments of `freemesh repl`.
+#[derive(Debug, clap::Args)]
+pub struct ReplArgs {
+    /// A domain file to load at the start (as :load does).
+    pub domain: Option<PathBuf>,
+    /// Target boundary segment length (replaces the domains' size).
+    #[arg(long)]
+    pub size: Option<f64>,
+    /// A knowledge-base file consulted after the built-in rules. Repeat
+    /// for several.
+    #[arg(long = "kb")]
+    pub kb: Vec<PathBuf>,
 }
 
 /// Arguments of `freemesh features`.

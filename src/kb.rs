@@ -21,6 +21,7 @@ pub const BUILTIN_KB: &[(&str, &str)] = &[
     ("kb/design.pl", include_str!("../kb/design.pl")),
     ("kb/redesign.pl", include_str!("../kb/redesign.pl")),
     ("kb/patterns.pl", include_str!("../kb/patterns.pl")),
+    ("kb/front.pl", include_str!("../kb/front.pl")),
 ];
 
 const LOADER: &str = include_str!("kb_loader.pl");
@@ -71,6 +72,32 @@ pub enum KbError {
 
 /// One answer's bindings.
 pub type Bindings = BTreeMap<String, Term>;
+
+/// One answer to a query the user typed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum UserAnswer {
+    /// A solution: each named variable with its value as Prolog text
+    /// (empty: `true`).
+    Bindings(Vec<(String, String)>),
+    /// A syntax error, an exception or a runaway, in Prolog's words.
+    Error(String),
+}
+
+fn atom_or_text(t: &Term) -> String {
+    match t {
+        Term::Atom(a) => a.clone(),
+        other => term_text(other),
+    }
+}
+
+fn binding_pair(t: &Term) -> Option<(String, String)> {
+    match t {
+        Term::Compound(f, args) if f == "=" && args.len() == 2 => {
+            Some((atom_or_text(&args[0]), atom_or_text(&args[1])))
+        }
+        _ => None,
+    }
+}
 
 /// The engine with its rules loaded.
 pub struct KnowledgeBase {
@@ -218,11 +245,12 @@ impl KnowledgeBase {
         for probe in [
             "strategy(_)",
             "point_segment_near(0, 0, 1)",
-            "edge_feature(ctx(180,180,180,180,180,1,1), _)",
-            "edge_design(ctx(180,180,180,180,180,1,1), _, _)",
+            "context_feature(ctx(180,180,180,180,180,1,1), _)",
+            "context_design(ctx(180,180,180,180,180,1,1), _, _)",
             "violation(outer_corner(n1, 10), _)",
             "loop_patterns([90,90,180,90,90,180], _)",
             "fm_known_action_(a3)",
+            "\\+ edge_feature(_, _)",
         ] {
             let ok = kb.run(&format!("{probe}."))?;
             if ok.is_empty() {
@@ -267,6 +295,54 @@ impl KnowledgeBase {
         }
         self.stats.engine_time += t0.elapsed();
         Ok(out)
+    }
+
+    /// Runs a query the user typed (REPL): the text is handed to Prolog as
+    /// character codes and read there inside `catch/3`, so a typo is an
+    /// answer, never a crash. `on_answer` gets each answer in turn and
+    /// says whether to ask for the next; at most `limit` inferences are
+    /// spent on each answer.
+    pub fn user_query(
+        &mut self,
+        text: &str,
+        limit: u64,
+        on_answer: &mut dyn FnMut(UserAnswer) -> bool,
+    ) {
+        let mut text = text.trim().trim_start_matches("?-").trim().to_string();
+        if !text.ends_with('.') {
+            text.push_str(" .");
+        }
+        let codes: Vec<String> = text.chars().map(|c| (c as u32).to_string()).collect();
+        let q = format!("fm_repl_query([{}], {limit}, A).", codes.join(","));
+        for answer in self.machine.run_query(q) {
+            let answer = match answer {
+                Ok(LeafAnswer::LeafAnswer { mut bindings, .. }) => match bindings.remove("A") {
+                    Some(Term::Compound(f, args)) if f == "answer" && args.len() == 1 => {
+                        UserAnswer::Bindings(match &args[0] {
+                            Term::List(items) => items.iter().filter_map(binding_pair).collect(),
+                            _ => Vec::new(),
+                        })
+                    }
+                    Some(Term::Compound(f, args)) if f == "error" && args.len() == 1 => {
+                        UserAnswer::Error(atom_or_text(&args[0]))
+                    }
+                    // Only halt/0,1 ends a query without binding A.
+                    None => UserAnswer::Error(
+                        "halt stops the engine's query here; :quit ends the session".into(),
+                    ),
+                    Some(other) => {
+                        UserAnswer::Error(format!("unexpected answer {}", term_text(&other)))
+                    }
+                },
+                Ok(LeafAnswer::True) => UserAnswer::Bindings(Vec::new()),
+                Ok(LeafAnswer::False) => break,
+                Ok(LeafAnswer::Exception(e)) | Err(e) => UserAnswer::Error(term_text(&e)),
+            };
+            let is_error = matches!(answer, UserAnswer::Error(_));
+            if !on_answer(answer) || is_error {
+                break;
+            }
+        }
     }
 
     /// The first answer's binding of `var`, memoised by query text.

@@ -8,6 +8,7 @@ clauses. Result is ok(Count) or error(Line, Reason).
 
 :- use_module(library(lists)).
 :- use_module(library(iso_ext)).
+:- use_module(library(charsio)).
 
 fm_consult(Path, Settings, Result) :-
     catch(fm_read_all_(Path, Items), E, true),
@@ -96,3 +97,61 @@ fm_add_items_([item(_, T) | Items], N0, N) :-
     ;   assertz(T), N1 is N0 + 1
     ),
     fm_add_items_(Items, N1, N).
+
+/* Host support: the live front as facts (kb/front.pl). */
+
+%% fm_front_set(+Nodes, +Edges, +Angles, +Contexts)
+%
+% Replaces the front facts: Nodes are xy(N, X, Y), Edges e(N1, N2),
+% Angles a(N, Degrees), Contexts c(E, Ctx).
+fm_front_set(Nodes, Edges, Angles, Ctxs) :-
+    retractall(node_xy(_, _, _)),
+    retractall(front_edge(_, _)),
+    retractall(node_angle(_, _)),
+    retractall(edge_context(_, _)),
+    forall(member(xy(N, X, Y), Nodes), assertz(node_xy(N, X, Y))),
+    forall(member(e(A, B), Edges), assertz(front_edge(A, B))),
+    forall(member(a(N1, T), Angles), assertz(node_angle(N1, T))),
+    forall(member(c(E, C), Ctxs), assertz(edge_context(E, C))).
+
+/* Host support: a user's query, typed at the REPL. */
+
+%% fm_repl_query(+Codes, +Limit, -Answer)
+%
+% Reads the query from its character codes (so no text the user types
+% can break the host's query), calls it with at most Limit inferences per
+% answer and gives, one per solution on backtracking:
+%   answer(Bindings)   Bindings a list of Name = Text (the value written
+%                      as Prolog text, variables by their names)
+%   error(Text)        a syntax error, an exception or a runaway; last
+fm_repl_query(Codes, Limit, Answer) :-
+    atom_codes(Atom, Codes),
+    atom_chars(Atom, Chars),
+    catch(read_term_from_chars(Chars, Goal, [variable_names(Vs)]), E, true),
+    (   nonvar(E) -> fm_error_text_(E, Answer)
+    ;   catch(call_with_inference_limit(Goal, Limit, R), E2, true),
+        (   nonvar(E2) -> fm_error_text_(E2, Answer)
+        ;   R == inference_limit_exceeded ->
+            Answer = error('the query ran past the inference limit (a loop?)')
+        ;   fm_bindings_(Vs, Vs, Bs), Answer = answer(Bs)
+        )
+    ).
+
+fm_bindings_([], _, []).
+fm_bindings_([Name = V | Rest], Vs, Bs) :-
+    write_term_to_chars(V, [quoted(true), variable_names(Vs)], Cs),
+    atom_chars(Text, Cs),
+    (   ( sub_atom(Name, 0, 1, _, '_') ; Text == Name ) -> Bs = Bs1
+    ;   Bs = [Name = Text | Bs1]
+    ),
+    fm_bindings_(Rest, Vs, Bs1).
+
+fm_error_text_(E, error(Text)) :-
+    fm_error_words_(E, W),
+    write_term_to_chars(W, [quoted(true)], Cs),
+    atom_chars(Text, Cs).
+
+fm_error_words_(error(syntax_error(S), _), syntax_error(S)) :- !.
+fm_error_words_(error(existence_error(procedure, PI), _), unknown_procedure(PI)) :- !.
+fm_error_words_(error(E, _), E) :- !.
+fm_error_words_(E, exception(E)).

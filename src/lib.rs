@@ -29,6 +29,7 @@ pub mod mesh;
 pub mod mesher;
 pub mod output;
 pub mod quality;
+pub mod repl;
 pub mod smoothing;
 pub mod trace;
 
@@ -108,45 +109,30 @@ pub struct MeshResult {
     pub kb_stats: kb::KbStats,
 }
 
-/// The boundary features of a domain's initial loop (after the cutting
-/// lines), as the KB recognises them.
-pub fn domain_features(
+/// A meshing run over a domain, ready to step: the boundary discretised
+/// with boundary size `size` (the domain's own when None), the cutting
+/// lines drawn, the front made.
+pub fn start_mesher<'k>(
+    domain: &Domain,
+    kb: &'k mut KnowledgeBase,
+    size: Option<f64>,
+) -> Result<mesher::Mesher<'k>, Error> {
+    let prepared = prepare_run(domain, kb, size)?;
+    Ok(mesher::Mesher::start_from(kb, prepared))
+}
+
+/// Everything of `start_mesher` that can fail, with the KB only borrowed.
+pub fn prepare_run(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     size: Option<f64>,
-) -> Result<mesher::FrontFeatures, Error> {
+) -> Result<mesher::Prepared, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
         return Err(Error::Option(format!(
             "--size must be a positive number, got {size}"
         )));
     }
-    let disc = boundary::discretise(domain, size)?;
-    let mut m = mesher::Mesher::new(kb, disc, size, 1.0)?;
-    Ok(m.front_features()?)
-}
-
-/// Meshes a domain with the knowledge base, smooths and checks the mesh.
-pub fn mesh_domain(
-    domain: &Domain,
-    kb: &mut KnowledgeBase,
-    opts: &Options,
-    progress: &mut dyn FnMut(usize),
-) -> Result<MeshResult, Error> {
-    let size = opts.size.unwrap_or(domain.size);
-    if !(size.is_finite() && size > 0.0) {
-        return Err(Error::Option(format!(
-            "--size must be a positive number, got {size}"
-        )));
-    }
-    if let Some(m) = opts.max_size {
-        if !(m.is_finite() && m > 0.0) {
-            return Err(Error::Option(format!(
-                "--max-size must be a positive number, got {m}"
-            )));
-        }
-    }
-    let kb_before = kb.stats;
     let disc = boundary::discretise(domain, size)?;
     let n_loops = 1 + domain.holes.len() as u32;
     let area: f64 = disc
@@ -156,28 +142,58 @@ pub fn mesh_domain(
         .filter(|e| e.group < n_loops)
         .map(|e| disc.mesh.nodes[e.a as usize].perp_dot(disc.mesh.nodes[e.b as usize]) / 2.0)
         .sum();
-    let mut m = mesher::Mesher::new(kb, disc, size, area)?;
+    Ok(mesher::Prepared::new(kb, disc, size, area)?)
+}
+
+/// The boundary features of a domain's initial loop (after the cutting
+/// lines), as the KB recognises them.
+pub fn domain_features(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    size: Option<f64>,
+) -> Result<mesher::FrontFeatures, Error> {
+    Ok(start_mesher(domain, kb, size)?.front_features()?)
+}
+
+/// Meshes a domain with the knowledge base, smooths and checks the mesh.
+pub fn mesh_domain(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    if let Some(m) = opts.max_size {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(Error::Option(format!(
+                "--max-size must be a positive number, got {m}"
+            )));
+        }
+    }
+    let kb_before = kb.stats;
+    let mut m = start_mesher(domain, kb, opts.size)?;
     if let Err(e) = m.run(progress) {
         // A debugging aid: the state where meshing stopped, as a picture.
         if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
-            let loops: Vec<Vec<u32>> = m
-                .front
-                .live_loops()
-                .iter()
-                .map(|&l| {
-                    m.front
-                        .loop_fvs(l)
-                        .iter()
-                        .map(|&f| m.front.node(f))
-                        .collect()
-                })
-                .collect();
-            let _ = std::fs::write(&path, output::to_svg(&m.mesh, &loops, "stopped"));
+            let _ = std::fs::write(
+                &path,
+                output::to_svg(&m.mesh, &m.front_node_loops(), "stopped"),
+            );
             let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
             let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
         }
         return Err(e.into());
     }
+    finish(&mut m, opts, kb_before)
+}
+
+/// Finishes a run whose recursion is done: drops the nodes no element
+/// kept (the trace's ids follow), smooths, checks and measures the mesh.
+/// The run is left empty.
+pub fn finish(
+    m: &mut mesher::Mesher,
+    opts: &Options,
+    kb_before: kb::KbStats,
+) -> Result<MeshResult, Error> {
     let mut mesh = std::mem::take(&mut m.mesh);
     let mut trace = std::mem::take(&mut m.trace);
     let map = mesh.compact();
@@ -193,19 +209,18 @@ pub fn mesh_domain(
             *n = remap(*n);
         }
     }
-    let stats = m.stats;
     smoothing::laplace(&mut mesh, opts.smoothing_passes);
     smoothing::untangle_angles(&mut mesh, 10);
-    check::check_mesh(&mesh, area)?;
+    check::check_mesh(&mesh, m.area)?;
     let quality = quality::measure(&mesh);
-    let mut kb_stats = kb.stats;
+    let mut kb_stats = m.kb().stats;
     kb_stats.engine_queries -= kb_before.engine_queries;
     kb_stats.cached_queries -= kb_before.cached_queries;
     kb_stats.engine_time -= kb_before.engine_time;
     Ok(MeshResult {
         mesh,
         trace,
-        stats,
+        stats: m.stats,
         quality,
         kb_stats,
     })

@@ -98,11 +98,55 @@ pub struct FrontFeatures {
     pub edges: Vec<EdgeFeature>,
 }
 
+/// What a run needs before it starts: the boundary discretised, the
+/// settings read from the KB. Making it is what can fail; starting the
+/// run from it cannot.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    disc: Discretised,
+    size: f64,
+    area: f64,
+    set: Settings,
+}
+
+impl Prepared {
+    /// Reads the run's settings from the KB for the discretised domain
+    /// with boundary size `size` and area `area`.
+    pub fn new(
+        kb: &mut KnowledgeBase,
+        disc: Discretised,
+        size: f64,
+        area: f64,
+    ) -> Result<Prepared, MeshError> {
+        Ok(Prepared {
+            disc,
+            size,
+            area,
+            set: Settings::read(kb)?,
+        })
+    }
+}
+
 /// Settings read from the KB once per run.
 #[derive(Debug, Clone)]
 struct Settings {
     rank: HashMap<String, u32>,
     rounds: usize,
+}
+
+impl Settings {
+    fn read(kb: &mut KnowledgeBase) -> Result<Settings, KbError> {
+        let strategy = kb.strategy()?;
+        let rank = strategy
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.clone(), i as u32))
+            .collect();
+        Ok(Settings {
+            rank,
+            rounds: kb.bound("redesign_rounds")?.max(0.0) as usize,
+        })
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -166,6 +210,9 @@ pub struct Mesher<'k> {
     /// (and on the loops split from them), so the rules cannot remesh a
     /// region they already failed in.
     fallback_only: std::collections::HashSet<u32>,
+    started: bool,
+    /// The area of the domain (what the finished mesh must cover).
+    pub area: f64,
 }
 
 const NOT_FAILED: u32 = u32::MAX;
@@ -185,16 +232,18 @@ impl<'k> Mesher<'k> {
         size: f64,
         area: f64,
     ) -> Result<Mesher<'k>, MeshError> {
-        let strategy = kb.strategy()?;
-        let rank = strategy
-            .iter()
-            .enumerate()
-            .map(|(i, f)| (f.clone(), i as u32))
-            .collect();
-        let set = Settings {
-            rank,
-            rounds: kb.bound("redesign_rounds")?.max(0.0) as usize,
-        };
+        let prepared = Prepared::new(kb, disc, size, area)?;
+        Ok(Mesher::start_from(kb, prepared))
+    }
+
+    /// Starts a run from what was prepared for it.
+    pub fn start_from(kb: &'k mut KnowledgeBase, prepared: Prepared) -> Mesher<'k> {
+        let Prepared {
+            disc,
+            size,
+            area,
+            set,
+        } = prepared;
         let mut front = Front::new(&disc.front_loop, size);
         front.index_all(&disc.mesh.nodes);
         let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
@@ -204,7 +253,7 @@ impl<'k> Mesher<'k> {
             .iter()
             .map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length())
             .fold(size, f64::min);
-        Ok(Mesher {
+        Mesher {
             kb,
             mesh: disc.mesh,
             front,
@@ -222,7 +271,9 @@ impl<'k> Mesher<'k> {
             debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
             fallback_passes: 0,
             fallback_only: Default::default(),
-        })
+            started: false,
+            area,
+        }
     }
 
     fn pos(&self, fv: Fv) -> DVec2 {
@@ -322,7 +373,7 @@ impl<'k> Mesher<'k> {
         }
         let lab = self.labels(fv, mirrored);
         let (ctx, angles) = self.context(&lab);
-        let q = format!("edge_design({ctx}, F, A), R = d(F, A).");
+        let q = format!("context_design({ctx}, F, A), R = d(F, A).");
         let Some(ans) = self.kb.ask_cached(&q, "R")? else {
             return Ok(());
         };
@@ -334,7 +385,7 @@ impl<'k> Mesher<'k> {
         };
         let Some(action) = action.filter(|a| a.is_sound()) else {
             return Err(KbError::Answer {
-                query: "edge_design/3".into(),
+                query: "context_design/3".into(),
                 answer: term_text(&ans),
                 expected: "d(Feature, Action) with a known, sound action".into(),
             }
@@ -405,7 +456,7 @@ impl<'k> Mesher<'k> {
                 for mirrored in [false, true] {
                     let lab = self.labels(fv, mirrored);
                     let (ctx, _) = self.context(&lab);
-                    let q = format!("edge_design({ctx}, F, A), R = d(F, A).");
+                    let q = format!("context_design({ctx}, F, A), R = d(F, A).");
                     let ans = self.kb.ask_cached(&q, "R")?;
                     let (feature, action) = match &ans {
                         Some(Term::Compound(_, args)) if args.len() == 2 => {
@@ -428,6 +479,21 @@ impl<'k> Mesher<'k> {
 
     /// Runs the recursion to the end.
     pub fn run(&mut self, progress: &mut dyn FnMut(usize)) -> Result<(), MeshError> {
+        while self.step()? {
+            progress(self.mesh.quads.len());
+        }
+        Ok(())
+    }
+
+    /// True iff every loop of the remaining domain is closed.
+    pub fn is_done(&self) -> bool {
+        self.started && self.front.live_loops().is_empty()
+    }
+
+    /// Closes the loops that are final patterns already and classifies
+    /// every front edge (the first step does it).
+    fn start(&mut self) -> Result<(), MeshError> {
+        self.started = true;
         self.ensure_capacity();
         let all: Vec<Fv> = self
             .front
@@ -438,60 +504,55 @@ impl<'k> Mesher<'k> {
         for l in self.front.live_loops() {
             self.try_close_loop(l)?;
         }
-        self.refresh(&all)?;
-        loop {
-            while let Some(Reverse(c)) = self.heap.pop() {
-                if self.version[c.key as usize] != c.version
-                    || self.failed[c.key as usize] == c.version
-                {
-                    continue;
-                }
-                let fv = c.key / 2;
-                if !self.front.alive(fv) {
-                    continue;
-                }
-                if self.mesh.quads.len() > self.max_elements {
-                    return Err(MeshError::Runaway(self.mesh.quads.len()));
-                }
-                if !self.try_design(c.key)? {
-                    self.failed[c.key as usize] = c.version;
-                }
-                progress(self.mesh.quads.len());
+        self.refresh(&all)
+    }
+
+    /// One step of the recursion: the next element the rules make (with
+    /// the loops it lets the final patterns close), or, where no rule
+    /// applies, one pass of the fallback over the loops. False when the
+    /// domain is meshed.
+    pub fn step(&mut self) -> Result<bool, MeshError> {
+        if !self.started {
+            self.start()?;
+        }
+        while let Some(Reverse(c)) = self.heap.pop() {
+            if self.version[c.key as usize] != c.version || self.failed[c.key as usize] == c.version
+            {
+                continue;
             }
-            // No rule applies anywhere: close what the final patterns
-            // close, split the rest.
-            let loops = self.front.live_loops();
-            if loops.is_empty() {
-                return Ok(());
+            let fv = c.key / 2;
+            if !self.front.alive(fv) {
+                continue;
             }
-            // Every pass of the fallback must make progress; a bounded number
-            // of passes keeps a pathological loop from running forever.
-            self.fallback_passes += 1;
-            if self.debug_check {
-                let lens: Vec<usize> = self
-                    .front
-                    .live_loops()
-                    .iter()
-                    .map(|&l| self.front.loop_len(l))
-                    .collect();
-                eprintln!(
-                    "fallback pass {} quads {} loops {:?} stats {:?}",
-                    self.fallback_passes,
-                    self.mesh.quads.len(),
-                    lens,
-                    self.stats
-                );
+            if self.mesh.quads.len() > self.max_elements {
+                return Err(MeshError::Runaway(self.mesh.quads.len()));
             }
-            if self.fallback_passes > 2000 {
-                let l = self.front.live_loops()[0];
-                let p = self.pos(self.front.loop_head(l));
-                return Err(MeshError::Stuck {
-                    len: self.front.loop_len(l),
-                    x: p.x,
-                    y: p.y,
-                });
+            if self.try_design(c.key)? {
+                return Ok(true);
             }
-            let mut changed = false;
+            self.failed[c.key as usize] = c.version;
+        }
+        // No rule applies anywhere: close what the final patterns close,
+        // split the rest.
+        let loops = self.front.live_loops();
+        if loops.is_empty() {
+            return Ok(false);
+        }
+        // Every pass of the fallback must make progress; a bounded number
+        // of passes keeps a pathological loop from running forever.
+        self.fallback_passes += 1;
+        if self.debug_check {
+            let lens: Vec<usize> = loops.iter().map(|&l| self.front.loop_len(l)).collect();
+            eprintln!(
+                "fallback pass {} quads {} loops {:?} stats {:?}",
+                self.fallback_passes,
+                self.mesh.quads.len(),
+                lens,
+                self.stats
+            );
+        }
+        let mut changed = false;
+        if self.fallback_passes <= 2000 {
             for l in loops {
                 if self.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
                     changed = true;
@@ -501,18 +562,120 @@ impl<'k> Mesher<'k> {
                     changed = true;
                 }
             }
-            if !changed {
-                let l = self.front.live_loops()[0];
-                let p = self.pos(self.front.loop_head(l));
-                return Err(MeshError::Stuck {
-                    len: self.front.loop_len(l),
-                    x: p.x,
-                    y: p.y,
-                });
-            }
-            let touched = self.front.take_touched();
-            self.refresh(&touched)?;
         }
+        if !changed {
+            let l = self.front.live_loops()[0];
+            let p = self.pos(self.front.loop_head(l));
+            return Err(MeshError::Stuck {
+                len: self.front.loop_len(l),
+                x: p.x,
+                y: p.y,
+            });
+        }
+        let touched = self.front.take_touched();
+        self.refresh(&touched)?;
+        Ok(true)
+    }
+
+    /// The open loops of the front, as node ids in loop order.
+    pub fn front_node_loops(&self) -> Vec<Vec<u32>> {
+        self.front
+            .live_loops()
+            .iter()
+            .map(|&l| {
+                self.front
+                    .loop_fvs(l)
+                    .iter()
+                    .map(|&f| self.front.node(f))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The open loops of the front: each node id with the interior angle
+    /// of the remaining domain there (whole degrees), in loop order.
+    pub fn front_loop_angles(&self) -> Vec<Vec<(u32, f64)>> {
+        self.front
+            .live_loops()
+            .iter()
+            .map(|&l| {
+                self.front
+                    .loop_fvs(l)
+                    .iter()
+                    .map(|&f| {
+                        (
+                            self.front.node(f),
+                            deg_round(self.front.angle(f, &self.mesh.nodes)),
+                        )
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The knowledge base the run asks.
+    pub fn kb(&mut self) -> &mut KnowledgeBase {
+        self.kb
+    }
+
+    /// Ends the run, handing back the knowledge base.
+    pub fn into_kb(self) -> &'k mut KnowledgeBase {
+        self.kb
+    }
+
+    /// Re-reads the settings and re-classifies every front edge: the
+    /// knowledge base changed (a file was consulted mid-run).
+    pub fn kb_changed(&mut self) -> Result<(), MeshError> {
+        self.set = Settings::read(self.kb)?;
+        self.heap.clear();
+        if !self.started {
+            return Ok(());
+        }
+        let all: Vec<Fv> = self
+            .front
+            .live_loops()
+            .iter()
+            .flat_map(|&l| self.front.loop_fvs(l))
+            .collect();
+        self.refresh(&all)
+    }
+
+    /// States the current front to the KB as facts (kb/front.pl):
+    /// node_xy/3, front_edge/2, node_angle/2 and edge_context/2 for
+    /// both readings of every edge.
+    pub fn publish_front(&mut self) -> Result<(), MeshError> {
+        let f = crate::kb::fmt_float;
+        let (mut nodes, mut edges, mut angles, mut ctxs) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut seen = std::collections::HashSet::new();
+        for l in self.front.live_loops() {
+            for fv in self.front.loop_fvs(l) {
+                let n = self.front.node(fv);
+                let p = self.mesh.nodes[n as usize];
+                if seen.insert(n) {
+                    nodes.push(format!("xy({n}, {}, {})", f(p.x), f(p.y)));
+                }
+                let next = self.front.node(self.front.next(fv));
+                edges.push(format!("e({n}, {next})"));
+                let theta = deg_round(self.front.angle(fv, &self.mesh.nodes));
+                angles.push(format!("a({n}, {})", f(theta)));
+                for mirrored in [false, true] {
+                    let lab = self.labels(fv, mirrored);
+                    let (ctx, _) = self.context(&lab);
+                    let (a, b) = (self.front.node(lab.n1), self.front.node(lab.n2));
+                    ctxs.push(format!("c({a}-{b}, {ctx})"));
+                }
+            }
+        }
+        let q = format!(
+            "fm_front_set([{}], [{}], [{}], [{}]).",
+            nodes.join(","),
+            edges.join(","),
+            angles.join(","),
+            ctxs.join(",")
+        );
+        self.kb.run(&q)?;
+        Ok(())
     }
 
     /// The element of an action over the labelled edge: its corners

@@ -27,6 +27,32 @@ pub struct TraceStep {
 }
 
 impl TraceStep {
+    /// One line of text, as the REPL prints it and the snapshot tests
+    /// keep it: step, edge, feature -> action, the angles seen (whole
+    /// degrees), the redesign rules that fired, the element.
+    pub fn to_text(&self) -> String {
+        let angles: Vec<String> = self
+            .angles
+            .iter()
+            .map(|(k, v)| format!("{k}={v:.0}"))
+            .collect();
+        let redesign = if self.redesign.is_empty() {
+            String::new()
+        } else {
+            format!(" redesign {}", self.redesign.join(","))
+        };
+        format!(
+            "{:>3} {:?} {} -> {} {}{} {:?}",
+            self.step,
+            self.edge,
+            self.feature,
+            self.action,
+            angles.join(" "),
+            redesign,
+            self.element
+        )
+    }
+
     /// One line of JSON.
     pub fn to_json_line(&self) -> String {
         serde_json::to_string(self).unwrap_or_default()

@@ -16,25 +16,8 @@ fn trace_text(path: &std::path::Path) -> String {
         r.stats.fallback_splits
     );
     for t in &r.trace {
-        let angles: Vec<String> = t
-            .angles
-            .iter()
-            .map(|(k, v)| format!("{k}={v:.0}"))
-            .collect();
-        s.push_str(&format!(
-            "{:>3} {:?} {} -> {} {}{} {:?}\n",
-            t.step,
-            t.edge,
-            t.feature,
-            t.action,
-            angles.join(" "),
-            if t.redesign.is_empty() {
-                String::new()
-            } else {
-                format!(" redesign {}", t.redesign.join(","))
-            },
-            t.element
-        ));
+        s.push_str(&t.to_text());
+        s.push('\n');
     }
     s
 }
