@@ -14,8 +14,12 @@ fm_consult(Path, Settings, Result) :-
     catch(fm_read_all_(Path, Items), E, true),
     (   nonvar(E) -> fm_error_line_(E, Line), fm_reason_(E, Why), Result = error(Line, Why)
     ;   fm_check_all_(Items, Problem) -> Result = Problem
-    ;   catch(fm_add_all_(Items, Settings, N), E2, true),
-        (   nonvar(E2) -> fm_reason_(E2, Why2), Result = error(0, Why2)
+    ;   fm_saved_settings_(Items, Settings, Saved),
+        catch(fm_add_all_(Items, Settings, N), E2, true),
+        (   nonvar(E2) ->
+            fm_undo_(Items, Saved), fm_reason_(E2, Why2), Result = error(0, Why2)
+        ;   fm_probe_all_(Items, Problem2) ->
+            fm_undo_(Items, Saved), Result = Problem2
         ;   Result = ok(N)
         )
     ).
@@ -82,10 +86,85 @@ fm_directive_ok_(discontiguous(_)).
 fm_directive_ok_(use_module(library(_))).
 
 fm_add_all_(Items, Settings, N) :-
-    findall(N0/A0, (member(item(_, T), Items), fm_head_(T, H), functor(H, N0, A0), member(N0/A0, Settings)), Ps0),
-    sort(Ps0, Ps),
+    fm_settings_defined_(Items, Settings, Ps),
     forall(member(Nm/Ar, Ps), (functor(G, Nm, Ar), retractall(G))),
     fm_add_items_(Items, 0, N).
+
+% The settings (of Settings) the file defines: it replaces them.
+fm_settings_defined_(Items, Settings, Ps) :-
+    findall(N0/A0, (member(item(_, T), Items), fm_head_(T, H), functor(H, N0, A0), member(N0/A0, Settings)), Ps0),
+    sort(Ps0, Ps).
+
+% The clauses of the settings the file replaces, to restore on undo.
+fm_saved_settings_(Items, Settings, Saved) :-
+    fm_settings_defined_(Items, Settings, Ps),
+    findall((G :- B), (member(Nm/Ar, Ps), functor(G, Nm, Ar), clause(G, B)), Saved).
+
+% Takes a refused file back out: its clauses retracted, the settings it
+% replaced restored.
+fm_undo_(Items, Saved) :-
+    forall(member(item(_, T), Items),
+           (   T = (:- _) -> true
+           ;   fm_clause_(T, C), catch(retract(C), _, true) -> true
+           ;   true
+           )),
+    forall(member(C, Saved), assertz(C)).
+
+fm_clause_((H :- B), (H :- B)) :- !.
+fm_clause_(H, (H :- true)).
+
+/* Run-time check of a file: the body of each rule of a predicate the
+   host asks is called on sample contexts; a rule that throws or runs
+   away on them is refused with its line. */
+
+fm_probe_all_(Items, error(L, Why)) :-
+    member(item(L, (H :- B)), Items),
+    fm_probe_(P),
+    copy_term(H-B, H1-B1),
+    H1 = P,
+    fm_probe_body_(B1, H, Why),
+    !.
+
+fm_probe_body_(B, H, Why) :-
+    functor(H, Name, Arity),
+    catch(once(call_with_inference_limit(B, 1000000, R)), E, true),
+    (   nonvar(E) -> fm_formal_(E, F), Why = rule_raised(Name/Arity, F)
+    ;   R == inference_limit_exceeded -> Why = rule_runs_away(Name/Arity)
+    ).
+
+fm_formal_(error(F, _), F) :- !.
+fm_formal_(E, E).
+
+fm_probe_(feature(_, C)) :- fm_probe_ctx_(C).
+fm_probe_(feature_action(_, C, _)) :- fm_probe_ctx_(C).
+fm_probe_(violation(R, _)) :- fm_probe_relation_(R).
+fm_probe_(redesign_rule(_, C, A, V, _)) :-
+    fm_probe_ctx_(C), fm_probe_action_(A), fm_probe_violation_(V).
+fm_probe_(final_pattern(As, _, _)) :-
+    member(As, [[90, 90, 180, 90, 90, 180], [120, 120, 120, 120, 120, 120],
+                [60, 200, 90, 100, 150, 120]]).
+fm_probe_(strategy(_)).
+fm_probe_(bound(_, _)).
+
+fm_probe_ctx_(ctx(90, 180, 90, 180, 90, 1, 1)).
+fm_probe_ctx_(ctx(180, 180, 180, 180, 180, 1, 1)).
+fm_probe_ctx_(ctx(100, 200, 60, 250, 120, 0.5, 2.0)).
+fm_probe_ctx_(ctx(270, 90, 300, 45, 170, 1.5, 0.7)).
+
+fm_probe_action_(a1(90, 90, 1, 1)).
+fm_probe_action_(a2(90, 90)).
+fm_probe_action_(a3).
+fm_probe_action_(a4).
+
+fm_probe_violation_(V) :-
+    member(V, [near_boundary(n3), near_concave(e23), near_node(n4),
+               small_outer_corner(n1), small_corner(n3), large_corner(n4),
+               small_remaining(n3)]).
+
+fm_probe_relation_(R) :-
+    member(R, [corner_segment(n3, 0.1, 0.0, 1.0), corner_node(n3, 0.2, 1.0),
+               edge_point(e23, 0.1, 0.0, 1.0, 270), outer_corner(n1, 30),
+               inner_corner(n3, 150), remaining_corner(n3, 30)]).
 
 fm_head_((H :- _), H) :- !.
 fm_head_((:- _), _) :- !, fail.
