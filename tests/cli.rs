@@ -267,6 +267,100 @@ fn a_broken_kb_file_is_refused_with_its_name_and_line() {
 }
 
 #[test]
+fn a_kb_rule_that_throws_is_refused_with_its_file_line_and_reason() {
+    let out = tmp("throws.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/throws.pl",
+        ],
+        &out,
+        "tests/kb/throws.pl:4: rule_raised(feature/2, evaluation_error(zero_divisor))",
+    );
+}
+
+#[test]
+fn a_kb_rule_that_runs_away_is_refused_with_its_file_and_line() {
+    let out = tmp("runs-away.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/runs-away.pl",
+        ],
+        &out,
+        "tests/kb/runs-away.pl:3: rule_runs_away(feature/2)",
+    );
+}
+
+/// Runs `freemesh repl ARGS` with `script` piped in.
+fn repl(args: &[&str], script: &str) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .arg("repl")
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(script.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn repl_answers_front_queries_and_goes_on_after_a_malformed_one() {
+    let o = repl(
+        &["../shared/bench/domains/fig1-polygon.json"],
+        "concave_point(N).\nfoo(.\nedge_feature(E, F).\n:quit\n",
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = out.lines().collect();
+    let error_at = lines
+        .iter()
+        .position(|l| l.starts_with("error"))
+        .expect("an error line for foo(");
+    let binding = |l: &str, var: &str| l.trim_start_matches([' ', ';']).starts_with(var);
+    assert!(
+        lines[..error_at].iter().any(|l| binding(l, "N = ")),
+        "bindings of N before the error: {out}"
+    );
+    let after = &lines[error_at + 1..];
+    assert!(!after.is_empty(), "answers after the error: {out}");
+    for l in after {
+        let l = l.trim_start_matches([' ', ';']).trim_end_matches('.');
+        let (e, f) = l.split_once(", F = ").expect("E = .., F = .. bindings");
+        assert!(e.starts_with("E = "), "{l}");
+        assert!(
+            ["b1", "b2", "b3", "b4", "b5"].contains(&f),
+            "F is a paper feature: {l}"
+        );
+    }
+}
+
+#[test]
+fn repl_refuses_a_bad_domain_at_the_start_with_one_line() {
+    let o = repl(&["tests/inputs/no-such-domain.json"], ":quit\n");
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: ") && err.contains("no-such-domain.json"));
+}
+
+#[test]
 fn a_kb_rule_with_an_undefined_action_is_refused() {
     let out = tmp("undef.msh");
     assert_refused(
