@@ -74,13 +74,8 @@ fn repl(args: cli::ReplArgs) -> Result<()> {
         let _ = editor.add_history_entry(line.as_str());
         // After each answer: ; asks for the next, Enter alone stops.
         let mut ask = |answer: &str| -> bool {
-            matches!(
-                editor
-                    .readline(&format!("   {answer} "))
-                    .as_deref()
-                    .map(str::trim),
-                Ok(";")
-            )
+            let reply = editor.readline(&format!("   {answer} "));
+            matches!(reply.as_deref().map(str::trim), Ok(";"))
         };
         if session.handle(&line, &mut out, Some(&mut ask))? == Flow::Quit {
             break;
