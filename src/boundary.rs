@@ -8,6 +8,18 @@ use crate::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
+/// The fewest segments a curve may have: one per 60 deg of arc.
+fn min_arc_segments(c: &Curve) -> usize {
+    let sweep = match *c {
+        Curve::Line { .. } => return 1,
+        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
+        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
+    };
+    (sweep / (std::f64::consts::PI / 3.0) - 1e-9)
+        .ceil()
+        .max(1.0) as usize
+}
+
 /// The segment count of every edge of every chain (outer, holes, lines in
 /// that order), with an even total: where the total of the derived counts
 /// is odd, the free edge of a loop with the longest segments gets one more.
@@ -31,10 +43,10 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
                             chain.label
                         )));
                     }
-                    let mut n = (est as usize).max(1);
-                    if matches!(e.curve, Curve::Circle { .. }) {
-                        n = n.max(3);
-                    }
+                    // No segment spans more than 60 deg of arc, so the
+                    // chords stay close to the curve: a circle gets at
+                    // least 6, a half circle 3.
+                    let n = (est as usize).max(1).max(min_arc_segments(&e.curve));
                     if ci < n_loops {
                         let cand = (len / n as f64, ci, ei);
                         if best_free.is_none_or(|b| (cand.0, cand.1, cand.2) >= b) {

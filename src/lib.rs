@@ -32,6 +32,7 @@ pub mod quality;
 pub mod repl;
 pub mod smoothing;
 pub mod trace;
+pub mod triangle_fallback;
 
 pub use domain::{Domain, DomainError};
 pub use kb::{KbError, KnowledgeBase};
@@ -86,6 +87,9 @@ pub enum Error {
     /// Meshing stopped short.
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    /// The last-resort fallback failed (a defect: never on a valid domain).
+    #[error(transparent)]
+    Fallback(#[from] triangle_fallback::FallbackError),
     /// The finished mesh failed its check (a defect: never written).
     #[error("the mesh failed its check before writing: {0}")]
     Check(#[from] check::MeshCheckError),
@@ -171,19 +175,50 @@ pub fn mesh_domain(
     }
     let kb_before = kb.stats;
     let mut m = start_mesher(domain, kb, opts.size)?;
-    if let Err(e) = m.run(progress) {
-        // A debugging aid: the state where meshing stopped, as a picture.
-        if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
-            let _ = std::fs::write(
-                &path,
-                output::to_svg(&m.mesh, &m.front_node_loops(), "stopped"),
-            );
-            let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
-            let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
+    match m.run(progress) {
+        Ok(()) => finish(&mut m, opts, kb_before),
+        // The rules and the loop subdivision gave up: the last resort
+        // meshes the whole domain (see triangle_fallback.rs).
+        Err(e @ (mesher::MeshError::Stuck { .. } | mesher::MeshError::Runaway(_))) => {
+            // A debugging aid: the state where meshing stopped, as a picture.
+            if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
+                let _ = std::fs::write(
+                    &path,
+                    output::to_svg(&m.mesh, &m.front_node_loops(), "stopped"),
+                );
+                let lines: Vec<String> = m.trace.iter().map(|t| t.to_json_line()).collect();
+                let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
+            }
+            let size = opts.size.unwrap_or(domain.size);
+            let disc = boundary::discretise(domain, size)?;
+            let mesh = triangle_fallback::mesh_by_triangles(domain, &disc, size)?;
+            let mut stats = m.stats;
+            stats.triangle_fallbacks += 1;
+            let reason = e.to_string();
+            let trace = vec![TraceStep {
+                step: 1,
+                edge: [-1, -1],
+                angles: Default::default(),
+                feature: "stuck".into(),
+                action: format!("triangle_split({})", mesh.quads.len()),
+                redesign: vec![reason],
+                element: vec![],
+            }];
+            let kb_stats = m.kb().stats;
+            let area = boundary_area(&mesh, 1 + domain.holes.len() as u32);
+            finish_mesh(mesh, trace, stats, area, opts, kb_before, kb_stats)
         }
-        return Err(e.into());
+        Err(e) => Err(e.into()),
     }
-    finish(&mut m, opts, kb_before)
+}
+
+/// The area inside the loops' boundary edges (groups below `loops`).
+fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
+    mesh.boundary
+        .iter()
+        .filter(|e| e.group < loops)
+        .map(|e| mesh.nodes[e.a as usize].perp_dot(mesh.nodes[e.b as usize]) / 2.0)
+        .sum()
 }
 
 /// Finishes a run whose recursion is done: drops the nodes no element
@@ -194,10 +229,26 @@ pub fn finish(
     opts: &Options,
     kb_before: kb::KbStats,
 ) -> Result<MeshResult, Error> {
-    let mut mesh = std::mem::take(&mut m.mesh);
-    let mut trace = std::mem::take(&mut m.trace);
+    let mesh = std::mem::take(&mut m.mesh);
+    let trace = std::mem::take(&mut m.trace);
+    let kb_after = m.kb().stats;
+    finish_mesh(mesh, trace, m.stats, m.area, opts, kb_before, kb_after)
+}
+
+fn finish_mesh(
+    mut mesh: Mesh,
+    mut trace: Vec<TraceStep>,
+    stats: MeshStats,
+    area: f64,
+    opts: &Options,
+    kb_before: kb::KbStats,
+    kb_after: kb::KbStats,
+) -> Result<MeshResult, Error> {
     let map = mesh.compact();
     let remap = |x: i64| {
+        if x < 0 {
+            return x;
+        }
         map.get(x as usize)
             .copied()
             .flatten()
@@ -211,16 +262,16 @@ pub fn finish(
     }
     smoothing::laplace(&mut mesh, opts.smoothing_passes);
     smoothing::untangle_angles(&mut mesh, 10);
-    check::check_mesh(&mesh, m.area)?;
+    check::check_mesh(&mesh, area)?;
     let quality = quality::measure(&mesh);
-    let mut kb_stats = m.kb().stats;
+    let mut kb_stats = kb_after;
     kb_stats.engine_queries -= kb_before.engine_queries;
     kb_stats.cached_queries -= kb_before.cached_queries;
     kb_stats.engine_time -= kb_before.engine_time;
     Ok(MeshResult {
         mesh,
         trace,
-        stats: m.stats,
+        stats,
         quality,
         kb_stats,
     })

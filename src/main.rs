@@ -158,7 +158,7 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     write_all(&files).context("writing the outputs")?;
     let q = &result.quality;
     eprintln!(
-        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits, {:.3} s",
+        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
         domain.name,
         result.mesh.nodes.len(),
         q.quads,
@@ -166,6 +166,11 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         q.max_angle,
         q.pct_45_135,
         result.stats.fallback_splits,
+        if result.stats.triangle_fallbacks > 0 {
+            " (the rules stopped: meshed whole by the triangle fallback)"
+        } else {
+            ""
+        },
         t0.elapsed().as_secs_f64()
     );
     Ok(())

@@ -57,6 +57,9 @@ pub struct MeshStats {
     pub merges: usize,
     /// Elements taken back to give a stuck loop room.
     pub unmeshed: usize,
+    /// Runs the rules could not finish, meshed whole by the last resort
+    /// (triangles split into quads, see triangle_fallback.rs).
+    pub triangle_fallbacks: usize,
 }
 
 /// A front node as the feature recognition sees it.

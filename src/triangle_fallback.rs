@@ -1,0 +1,312 @@
+//! The last resort: a valid all-quad mesh of any valid domain, for when
+//! the rules and the loop subdivision both fail.
+//!
+//! The discretised boundary (every loop and inner line a chain of
+//! constraint edges) and a lattice of interior points about one element
+//! size apart are triangulated (constrained Delaunay, `spade`); the
+//! triangles inside the domain are each split into three quadrilaterals
+//! by the centroid and the midpoints of the edges. Such a quad is convex
+//! whatever the triangle, neighbouring triangles share their edge's
+//! midpoint, and the midpoints of boundary edges are put on their curves,
+//! so the mesh is all-quad and conforming by construction. Every boundary
+//! segment is halved (the parity of the counts does not matter here), and
+//! the elements are about half the size the rules would make.
+
+use glam::DVec2;
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use std::collections::{HashMap, HashSet, VecDeque};
+
+use crate::boundary::Discretised;
+use crate::domain::Domain;
+use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
+
+/// Why the last resort could not mesh (a defect: a valid domain always
+/// meshes).
+#[derive(Debug, thiserror::Error)]
+#[error("the triangle fallback failed: {0}")]
+pub struct FallbackError(String);
+
+/// Meshes the discretised domain by triangles split into quads.
+///
+/// `size` is the boundary segment length; interior points are placed on a
+/// lattice of that spacing, kept at least half of it from the boundary.
+pub fn mesh_by_triangles(
+    domain: &Domain,
+    disc: &Discretised,
+    size: f64,
+) -> Result<Mesh, FallbackError> {
+    let src = &disc.mesh;
+    let loops = 1 + domain.holes.len() as u32;
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
+    let mut handle_node: HashMap<FixedVertexHandle, u32> = HashMap::new();
+    let mut node_handle: HashMap<u32, FixedVertexHandle> = HashMap::new();
+    let mut mesh = Mesh {
+        groups: src.groups.clone(),
+        ..Mesh::default()
+    };
+    // boundary nodes keep their ids in a new, compact numbering
+    let mut renumber: HashMap<u32, u32> = HashMap::new();
+    for e in &src.boundary {
+        for n in [e.a, e.b] {
+            if renumber.contains_key(&n) {
+                continue;
+            }
+            let p = src.nodes[n as usize];
+            let id = mesh.add_node(p, NodeKind::Boundary);
+            renumber.insert(n, id);
+            let h = cdt
+                .insert(Point2::new(p.x, p.y))
+                .map_err(|e| FallbackError(format!("boundary node {n}: {e:?}")))?;
+            if handle_node.insert(h, id).is_some() {
+                return Err(FallbackError(format!(
+                    "two boundary nodes at ({}, {})",
+                    p.x, p.y
+                )));
+            }
+            node_handle.insert(id, h);
+        }
+    }
+    let boundary: Vec<BoundaryEdge> = src
+        .boundary
+        .iter()
+        .map(|e| BoundaryEdge {
+            a: renumber[&e.a],
+            b: renumber[&e.b],
+            group: e.group,
+        })
+        .collect();
+    for e in &boundary {
+        let made = cdt.try_add_constraint(node_handle[&e.a], node_handle[&e.b]);
+        if made.len() != 1 {
+            return Err(FallbackError(format!(
+                "boundary edge {}-{} crosses another or passes through a node",
+                e.a, e.b
+            )));
+        }
+    }
+    for p in lattice_points(&mesh.nodes, &boundary, loops, size) {
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|e| FallbackError(format!("interior point: {e:?}")))?;
+        if let std::collections::hash_map::Entry::Vacant(v) = handle_node.entry(h) {
+            v.insert(mesh.add_node(p, NodeKind::Interior));
+        }
+    }
+    let triangles = inside_triangles(&cdt, &handle_node, &boundary, loops)?;
+    // split each triangle into three quads
+    let on_boundary: HashMap<(u32, u32), u32> = boundary
+        .iter()
+        .map(|e| ((e.a.min(e.b), e.a.max(e.b)), e.group))
+        .collect();
+    let chains: Vec<&crate::domain::Chain> = domain.chains().collect();
+    let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut mid = |mesh: &mut Mesh, a: u32, b: u32| -> u32 {
+        let key = (a.min(b), a.max(b));
+        *midpoint.entry(key).or_insert_with(|| {
+            let m = (mesh.nodes[a as usize] + mesh.nodes[b as usize]) / 2.0;
+            match on_boundary.get(&key) {
+                Some(&g) => {
+                    mesh.add_node(project_on_chain(chains[g as usize], m), NodeKind::Boundary)
+                }
+                None => mesh.add_node(m, NodeKind::Interior),
+            }
+        })
+    };
+    for [a, b, c] in triangles {
+        let (pa, pb, pc) = (
+            mesh.nodes[a as usize],
+            mesh.nodes[b as usize],
+            mesh.nodes[c as usize],
+        );
+        let g = mesh.add_node((pa + pb + pc) / 3.0, NodeKind::Interior);
+        let (mab, mbc, mca) = (
+            mid(&mut mesh, a, b),
+            mid(&mut mesh, b, c),
+            mid(&mut mesh, c, a),
+        );
+        mesh.quads.push([a, mab, g, mca]);
+        mesh.quads.push([b, mbc, g, mab]);
+        mesh.quads.push([c, mca, g, mbc]);
+    }
+    // A midpoint put on a strongly curved boundary may reach past the
+    // centroid of a thin triangle: pull it back towards its chord until
+    // every quad round it is convex.
+    let mut around: HashMap<u32, Vec<usize>> = HashMap::new();
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for &n in q {
+            around.entry(n).or_default().push(qi);
+        }
+    }
+    for e in &boundary {
+        let m = midpoint[&(e.a.min(e.b), e.a.max(e.b))];
+        let chord = (mesh.nodes[e.a as usize] + mesh.nodes[e.b as usize]) / 2.0;
+        let curve = mesh.nodes[m as usize];
+        let convex = |mesh: &Mesh| {
+            around[&m]
+                .iter()
+                .all(|&qi| crate::geometry::quad_is_convex(mesh.quad_points(qi)))
+        };
+        let mut t = 1.0;
+        while !convex(&mesh) && t > 1e-3 {
+            t /= 2.0;
+            mesh.nodes[m as usize] = chord + (curve - chord) * t;
+        }
+        if !convex(&mesh) {
+            mesh.nodes[m as usize] = chord;
+        }
+    }
+    for e in &boundary {
+        let m = midpoint[&(e.a.min(e.b), e.a.max(e.b))];
+        mesh.boundary.push(BoundaryEdge {
+            a: e.a,
+            b: m,
+            group: e.group,
+        });
+        mesh.boundary.push(BoundaryEdge {
+            a: m,
+            b: e.b,
+            group: e.group,
+        });
+    }
+    Ok(mesh)
+}
+
+/// The point of the chain's curves nearest to `p`.
+fn project_on_chain(chain: &crate::domain::Chain, p: DVec2) -> DVec2 {
+    chain
+        .edges
+        .iter()
+        .map(|e| e.curve.project(p))
+        .min_by(|x, y| {
+            (*x - p)
+                .length_squared()
+                .total_cmp(&(*y - p).length_squared())
+        })
+        .unwrap_or(p)
+}
+
+/// Interior points on a triangular lattice of spacing `size` over the
+/// domain, each at least half a spacing from every boundary edge.
+fn lattice_points(nodes: &[DVec2], boundary: &[BoundaryEdge], loops: u32, size: f64) -> Vec<DVec2> {
+    let lo = nodes.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
+    let hi = nodes.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+    // boundary edges bucketed on a grid of cell `size`, for the clearance
+    let cell = size;
+    let key = |p: DVec2| {
+        (
+            ((p.x - lo.x) / cell).floor() as i64,
+            ((p.y - lo.y) / cell).floor() as i64,
+        )
+    };
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, e) in boundary.iter().enumerate() {
+        let (a, b) = (nodes[e.a as usize], nodes[e.b as usize]);
+        let (k0, k1) = (key(a.min(b)), key(a.max(b)));
+        for x in k0.0..=k1.0 {
+            for y in k0.1..=k1.1 {
+                grid.entry((x, y)).or_default().push(i);
+            }
+        }
+    }
+    let rows = ((hi.y - lo.y) / (size * 0.866)).ceil() as i64;
+    let cols = ((hi.x - lo.x) / size).ceil() as i64;
+    let mut out = Vec::new();
+    for r in 0..=rows {
+        let shift = if r % 2 == 1 { 0.5 * size } else { 0.0 };
+        for c in 0..=cols {
+            let p = DVec2::new(
+                lo.x + shift + c as f64 * size,
+                lo.y + r as f64 * size * 0.866,
+            );
+            let k = key(p);
+            let clear = (-1..=1).all(|dx| {
+                (-1..=1).all(|dy| {
+                    grid.get(&(k.0 + dx, k.1 + dy)).is_none_or(|es| {
+                        es.iter().all(|&i| {
+                            let e = &boundary[i];
+                            crate::geometry::point_segment_distance(
+                                p,
+                                nodes[e.a as usize],
+                                nodes[e.b as usize],
+                            ) >= 0.5 * size
+                        })
+                    })
+                })
+            });
+            if clear && inside(p, nodes, boundary, loops) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// Even-odd test of `p` against the loops' edges.
+fn inside(p: DVec2, nodes: &[DVec2], boundary: &[BoundaryEdge], loops: u32) -> bool {
+    let mut odd = false;
+    for e in boundary.iter().filter(|e| e.group < loops) {
+        let (a, b) = (nodes[e.a as usize], nodes[e.b as usize]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            odd = !odd;
+        }
+    }
+    odd
+}
+
+/// The triangles inside the domain, counter-clockwise, as node ids: a
+/// flood fill from the outside that changes sides at every loop edge
+/// (inner lines are constraints too, but both their sides are inside).
+fn inside_triangles(
+    cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>,
+    handle_node: &HashMap<FixedVertexHandle, u32>,
+    boundary: &[BoundaryEdge],
+    loops: u32,
+) -> Result<Vec<[u32; 3]>, FallbackError> {
+    let loop_edges: HashSet<(u32, u32)> = boundary
+        .iter()
+        .filter(|e| e.group < loops)
+        .map(|e| (e.a.min(e.b), e.a.max(e.b)))
+        .collect();
+    let node = |h: FixedVertexHandle| handle_node[&h];
+    let mut side: HashMap<spade::handles::FixedFaceHandle<spade::handles::InnerTag>, bool> =
+        HashMap::new();
+    let mut queue = VecDeque::new();
+    // faces on the convex hull are outside unless a loop edge is the hull
+    for e in cdt.convex_hull() {
+        let Some(f) = e.face().as_inner().or_else(|| e.rev().face().as_inner()) else {
+            continue;
+        };
+        let (a, b) = (node(e.from().fix()), node(e.to().fix()));
+        let inner = loop_edges.contains(&(a.min(b), a.max(b)));
+        if let std::collections::hash_map::Entry::Vacant(v) = side.entry(f.fix()) {
+            v.insert(inner);
+            queue.push_back(f.fix());
+        }
+    }
+    while let Some(f) = queue.pop_front() {
+        let here = side[&f];
+        for e in cdt.face(f).adjacent_edges() {
+            let Some(g) = e.rev().face().as_inner() else {
+                continue;
+            };
+            if side.contains_key(&g.fix()) {
+                continue;
+            }
+            let (a, b) = (node(e.from().fix()), node(e.to().fix()));
+            let crosses = loop_edges.contains(&(a.min(b), a.max(b)));
+            side.insert(g.fix(), here ^ crosses);
+            queue.push_back(g.fix());
+        }
+    }
+    if side.len() != cdt.num_inner_faces() {
+        return Err(FallbackError("a triangle was not reached".into()));
+    }
+    let mut tris: Vec<[u32; 3]> = cdt
+        .inner_faces()
+        .filter(|f| side[&f.fix()])
+        .map(|f| f.vertices().map(|v| node(v.fix())))
+        .collect();
+    tris.sort_unstable(); // the same mesh whatever the hash order
+    Ok(tris)
+}
