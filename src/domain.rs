@@ -16,6 +16,11 @@ pub const MAX_BULGE: f64 = 1e6;
 /// instead of exhausting memory.
 pub const MAX_BOUNDARY_SEGMENTS: usize = 2_000_000;
 
+/// The most elements a run may be asked for: a domain whose area over
+/// size squared (its element count at that size) is larger is refused
+/// before meshing, with the estimate.
+pub const MAX_ELEMENTS: usize = 5_000_000;
+
 /// An error in a domain file: names the key, loop, edge or point at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum DomainError {
@@ -229,6 +234,75 @@ pub struct Domain {
     pub holes: Vec<Chain>,
     /// Inner lines (open).
     pub lines: Vec<Chain>,
+    /// Keys the format does not know, each with where it is: ignored, and
+    /// worth a warning (a misspelt `holes` would silently drop the holes).
+    pub unknown_keys: Vec<String>,
+}
+
+/// The keys of each object of the format (domain-format.md).
+const TOP_KEYS: &[&str] = &["name", "size", "max_size", "outer", "holes", "lines"];
+const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "circle"];
+const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments"];
+
+/// Every key of the domain's objects that the format does not know, as
+/// "where: key (did you mean ...?)".
+fn unknown_keys(v: &Value) -> Vec<String> {
+    fn check(v: &Value, at: &str, known: &[&str], out: &mut Vec<String>) {
+        let Some(obj) = v.as_object() else { return };
+        for k in obj.keys() {
+            if known.contains(&k.as_str()) {
+                continue;
+            }
+            let near = known
+                .iter()
+                .min_by_key(|c| edit_distance(k, c))
+                .filter(|c| edit_distance(k, c) <= 2);
+            let at = if at.is_empty() {
+                String::new()
+            } else {
+                format!("{at}.")
+            };
+            out.push(match near {
+                Some(c) => format!("{at}{k} (did you mean {c}?)"),
+                None => format!("{at}{k}"),
+            });
+        }
+    }
+    let mut out = Vec::new();
+    check(v, "", TOP_KEYS, &mut out);
+    let chain = |c: &Value, at: String, out: &mut Vec<String>| {
+        check(c, &at, CHAIN_KEYS, out);
+        if let Some(circle) = c.get("circle") {
+            check(circle, &format!("{at}.circle"), CIRCLE_KEYS, out);
+        }
+    };
+    if let Some(o) = v.get("outer") {
+        chain(o, "outer".into(), &mut out);
+    }
+    for list in ["holes", "lines"] {
+        if let Some(items) = v.get(list).and_then(Value::as_array) {
+            for (i, c) in items.iter().enumerate() {
+                chain(c, format!("{list}[{i}]"), &mut out);
+            }
+        }
+    }
+    out
+}
+
+/// Levenshtein distance, for suggesting the key meant.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
 }
 
 fn num(v: &Value, key: &str) -> Result<f64, DomainError> {
@@ -466,6 +540,7 @@ impl Domain {
             outer,
             holes,
             lines,
+            unknown_keys: unknown_keys(v),
         };
         d.check_geometry()?;
         Ok(d)

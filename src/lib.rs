@@ -137,6 +137,19 @@ pub fn prepare_run(
             "--size must be a positive number, got {size}"
         )));
     }
+    let area = domain.outer.signed_area().abs()
+        - domain
+            .holes
+            .iter()
+            .map(|h| h.signed_area().abs())
+            .sum::<f64>();
+    let estimate = area / (size * size);
+    if estimate > domain::MAX_ELEMENTS as f64 {
+        return Err(Error::Option(format!(
+            "size {size} gives about {estimate:.2e} elements over the domain's area {area:.4e}, above the limit of {} (give a larger size)",
+            domain::MAX_ELEMENTS
+        )));
+    }
     let disc = boundary::discretise(domain, size)?;
     let n_loops = 1 + domain.holes.len() as u32;
     let area: f64 = disc

@@ -84,6 +84,17 @@ fn repl(args: cli::ReplArgs) -> Result<()> {
     Ok(())
 }
 
+/// One warning line for the keys of a domain file the format does not know.
+fn warn_unknown_keys(domain: &Domain, path: &std::path::Path) {
+    if !domain.unknown_keys.is_empty() {
+        eprintln!(
+            "warning: {}: unknown keys ignored: {}",
+            path.display(),
+            domain.unknown_keys.join(", ")
+        );
+    }
+}
+
 /// The built-in knowledge base with the user's `--kb` files consulted.
 fn load_kb(files: &[PathBuf]) -> Result<KnowledgeBase> {
     let mut kb = KnowledgeBase::builtin()?;
@@ -96,6 +107,7 @@ fn load_kb(files: &[PathBuf]) -> Result<KnowledgeBase> {
 fn features(args: cli::FeaturesArgs) -> Result<()> {
     use std::io::Write;
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
     let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
     let mut out = std::io::stdout().lock();
@@ -138,6 +150,7 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         .map(|p| Ok((p.clone(), Format::from_path(p)?)))
         .collect::<Result<_>>()?;
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
     let opts = Options::default()
         .with_size(args.size)

@@ -388,6 +388,25 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
         ("{\"size\": 0.1, \"outer\": {\"points\": [[0,0],[2,2],[2,0],[0,2]]}}", "intersects itself"),
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]], \"segments\": [1,1,1,2]}}", "odd"),
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}, \"holes\": [{\"circle\": {\"center\": [9,9], \"radius\": 1}}]}", "holes[0] lies outside"),
+        ("", "not valid JSON"),
+        ("[1, 2, 3]", "expected a JSON object"),
+        ("{\"size\": NaN, \"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}", "not valid JSON"),
+        ("{\"size\": 1e999, \"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}", "number out of range"),
+        ("{\"size\": \"big\", \"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}", "size: expected a number"),
+        ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[1,\"x\"],[1,1]]}}", "outer.points[1][1]: expected a number"),
+        ("{\"size\": 1}", "outer: missing key"),
+        ("{\"size\": 1, \"max_size\": -2, \"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}", "max_size: must be positive"),
+        ("{\"size\": 1, \"outer\": {\"circle\": {\"center\": [0,0], \"radius\": 0}}}", "outer.circle.radius: must be positive"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"holes\": [{\"points\": [[1,1],[4,1],[4,4],[1,4]]}, {\"points\": [[3,3],[6,3],[6,6],[3,6]]}]}", "holes[0] and holes[1] cross or touch"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"holes\": [{\"points\": [[0,2],[4,2],[4,4],[0,4]]}]}", "outer and holes[0] cross or touch"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"lines\": [{\"points\": [[1,1],[20,20]]}]}", "outer and lines[0] cross or touch"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"lines\": [{\"points\": [[20,20],[30,30]]}]}", "lines[0] lies outside"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"lines\": [{\"points\": [[1,1]]}]}", "lines[0].points: needs at least 2 points"),
+        ("{\"size\": 1e-9, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}}", "elements over the domain's area 1.0000e2, above the limit of 5000000"),
+        ("{\"size\": 0.001, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}}", "about 1.00e8 elements"),
+        ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]], \"segments\": [100000000, 2, 2, 2]}}", "outer.segments[0]: 100000000 segments is above the limit"),
+        ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]], \"segments\": [-1, 2, 2, 2]}}", "outer.segments[0]: expected a whole number >= 0"),
+        ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]], \"bulges\": [0, 0]}}", "outer.bulges: expected 4 entries"),
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]], \"bulges\": [0, 1e9, 0, 0]}}", "bulges[1]"),
     ];
     for (i, (text, expect)) in cases.iter().enumerate() {
@@ -400,6 +419,24 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
             expect,
         );
     }
+}
+
+#[test]
+fn an_unknown_key_is_named_in_a_warning_with_the_key_meant() {
+    let dom = tmp("typo.json");
+    std::fs::write(
+        &dom,
+        "{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}, \"hole\": []}",
+    )
+    .unwrap();
+    let out = tmp("typo.json.msh");
+    let o = freemesh(&["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: ") && stderr(&o).contains("hole (did you mean holes?)"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
