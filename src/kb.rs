@@ -58,6 +58,16 @@ pub enum KbError {
         /// The exception term.
         error: String,
     },
+    /// A rule threw or ran past the inference limit while meshing.
+    #[error("knowledge base: the rule {rule} {why} on {context}")]
+    Rule {
+        /// The rule at fault (`feature(b6)`, `feature_action(b6)`, ...).
+        rule: String,
+        /// What it did.
+        why: String,
+        /// The question it was asked (the edge's context, ...).
+        context: String,
+    },
     /// A query answered with something the host cannot use.
     #[error("knowledge base: {query} answered {answer}, which is not {expected}")]
     Answer {
@@ -342,6 +352,29 @@ impl KnowledgeBase {
             if !on_answer(answer) || is_error {
                 break;
             }
+        }
+    }
+
+    /// Asks one of the mesher's bounded questions (`fm_design/2`,
+    /// `fm_redesign/4`, `fm_patterns/2` of the loader), memoised by text:
+    /// the first answer's `R`, or the rule at fault as an error.
+    pub fn ask_bounded(&mut self, query: &str, context: &str) -> Result<Option<Term>, KbError> {
+        let ans = self.ask_cached(query, "R")?;
+        match &ans {
+            Some(Term::Compound(f, args)) if f == "fault" && args.len() == 2 => {
+                let why = match &args[1] {
+                    Term::Compound(r, e) if r == "raised" && e.len() == 1 => {
+                        format!("raised {}", term_text(&e[0]))
+                    }
+                    _ => "ran past the inference limit (2,000,000 inferences)".to_string(),
+                };
+                Err(KbError::Rule {
+                    rule: term_text(&args[0]),
+                    why,
+                    context: context.to_string(),
+                })
+            }
+            _ => Ok(ans),
         }
     }
 

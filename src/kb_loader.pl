@@ -234,3 +234,66 @@ fm_error_words_(error(syntax_error(S), _), syntax_error(S)) :- !.
 fm_error_words_(error(existence_error(procedure, PI), _), unknown_procedure(PI)) :- !.
 fm_error_words_(error(E, _), E) :- !.
 fm_error_words_(E, exception(E)).
+
+/* Host support: the mesher's questions, each bounded, so that a user's
+   rule that throws or runs away on some edge stops the run with the
+   rule's name instead of hanging it or crashing it. */
+
+%% fm_design(+Ctx, -R)
+%
+% R = d(Feature, Action) for the first feature of the strategy the edge
+% shows, or fault(Rule, Why) when a rule threw (raised(E)) or ran past
+% the inference limit (runs_away). Fails when the edge shows no feature.
+fm_design(Ctx, R) :-
+    fm_bounded_(context_design(Ctx, F, A), Outcome),
+    (   Outcome == true -> R = d(F, A)
+    ;   Outcome = fault(Why), fm_design_culprit_(Ctx, Rule), R = fault(Rule, Why)
+    ).
+
+%% fm_redesign(+Ctx, +Action, +Relations, -R)
+%
+% R = r(Rule, NewAction), or fault(Rule, Why). Fails when no rule fires.
+fm_redesign(Ctx, A, Rels, R) :-
+    fm_bounded_(redesign(Ctx, A, Rels, Rule, NewA), Outcome),
+    (   Outcome == true -> R = r(Rule, NewA)
+    ;   Outcome = fault(Why), fm_redesign_culprit_(Ctx, A, Rels, Culprit),
+        R = fault(Culprit, Why)
+    ).
+
+%% fm_patterns(+Angles, -R)
+%
+% R = ps(Patterns), or fault(final_pattern, Why).
+fm_patterns(As, R) :-
+    fm_bounded_(loop_patterns(As, Ps), Outcome),
+    (   Outcome == true -> R = ps(Ps)
+    ;   Outcome = fault(Why), R = fault(final_pattern, Why)
+    ).
+
+fm_bounded_(G, Outcome) :-
+    catch(call_with_inference_limit(G, 2000000, L), E, true),
+    (   nonvar(E) -> fm_formal_(E, F), Outcome = fault(raised(F))
+    ;   L == inference_limit_exceeded -> Outcome = fault(runs_away)
+    ;   Outcome = true
+    ).
+
+fm_faulty_(G) :- fm_bounded_(G, O), O = fault(_).
+
+% The rule at fault in a design question: the first feature of the
+% strategy whose recognition or action throws or runs away.
+fm_design_culprit_(Ctx, Rule) :-
+    strategy(S),
+    member(F, S),
+    (   fm_faulty_(feature(F, Ctx)) -> Rule = feature(F)
+    ;   fm_faulty_((feature(F, Ctx), feature_action(F, Ctx, _))) -> Rule = feature_action(F)
+    ),
+    !.
+fm_design_culprit_(_, context_design).
+
+fm_redesign_culprit_(Ctx, A, Rels, Rule) :-
+    member(Rel, Rels),
+    (   fm_faulty_(violation(Rel, _)) -> Rule = violation(Rel)
+    ;   fm_faulty_((violation(Rel, V), redesign_rule(_, Ctx, A, V, _))) ->
+        Rule = redesign_rule
+    ),
+    !.
+fm_redesign_culprit_(_, _, _, redesign).

@@ -376,8 +376,8 @@ impl<'k> Mesher<'k> {
         }
         let lab = self.labels(fv, mirrored);
         let (ctx, angles) = self.context(&lab);
-        let q = format!("context_design({ctx}, F, A), R = d(F, A).");
-        let Some(ans) = self.kb.ask_cached(&q, "R")? else {
+        let q = format!("fm_design({ctx}, R).");
+        let Some(ans) = self.kb.ask_bounded(&q, &ctx)? else {
             return Ok(());
         };
         let (feature, action) = match &ans {
@@ -388,7 +388,7 @@ impl<'k> Mesher<'k> {
         };
         let Some(action) = action.filter(|a| a.is_sound()) else {
             return Err(KbError::Answer {
-                query: "context_design/3".into(),
+                query: format!("feature_action({feature}) on {ctx}"),
                 answer: term_text(&ans),
                 expected: "d(Feature, Action) with a known, sound action".into(),
             }
@@ -459,8 +459,8 @@ impl<'k> Mesher<'k> {
                 for mirrored in [false, true] {
                     let lab = self.labels(fv, mirrored);
                     let (ctx, _) = self.context(&lab);
-                    let q = format!("context_design({ctx}, F, A), R = d(F, A).");
-                    let ans = self.kb.ask_cached(&q, "R")?;
+                    let q = format!("fm_design({ctx}, R).");
+                    let ans = self.kb.ask_bounded(&q, &ctx)?;
                     let (feature, action) = match &ans {
                         Some(Term::Compound(_, args)) if args.len() == 2 => {
                             (Some(term_text(&args[0])), Some(term_text(&args[1])))
@@ -985,11 +985,8 @@ impl<'k> Mesher<'k> {
             if round == self.set.rounds || rel.is_empty() {
                 break;
             }
-            let query = format!(
-                "redesign({ctx}, {action}, [{}], Rule, New), R = r(Rule, New).",
-                rel.join(", ")
-            );
-            let Some(ans) = self.kb.ask_cached(&query, "R")? else {
+            let query = format!("fm_redesign({ctx}, {action}, [{}], R).", rel.join(", "));
+            let Some(ans) = self.kb.ask_bounded(&query, &ctx)? else {
                 break;
             };
             let Term::Compound(_, args) = &ans else { break };
@@ -1261,8 +1258,11 @@ impl<'k> Mesher<'k> {
             .map(|a| crate::kb::fmt_float(*a))
             .collect::<Vec<_>>()
             .join(", ");
-        let q = format!("loop_patterns([{list}], Ps).");
-        let Some(Term::List(pats)) = self.kb.ask_cached(&q, "Ps")? else {
+        let q = format!("fm_patterns([{list}], R).");
+        let Some(Term::Compound(_, mut ps)) = self.kb.ask_bounded(&q, &format!("[{list}]"))? else {
+            return Ok(false);
+        };
+        let Some(Term::List(pats)) = ps.pop() else {
             return Ok(false);
         };
         for pat in pats {

@@ -300,6 +300,40 @@ fn a_kb_rule_that_runs_away_is_refused_with_its_file_and_line() {
     );
 }
 
+#[test]
+fn a_rule_that_throws_while_meshing_stops_the_run_naming_the_rule() {
+    let out = tmp("late-throw.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/l-shape.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/throws-on-a-reflex-corner.pl",
+        ],
+        &out,
+        "the rule feature(b6) raised evaluation_error(zero_divisor) on ctx(180, 180, 270,",
+    );
+}
+
+#[test]
+fn a_rule_that_runs_away_while_meshing_stops_the_run_naming_the_rule() {
+    let out = tmp("late-loop.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/l-shape.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/runs-away-on-a-reflex-corner.pl",
+        ],
+        &out,
+        "the rule feature(b6) ran past the inference limit",
+    );
+}
+
 /// Runs `freemesh repl ARGS` with `script` piped in.
 fn repl(args: &[&str], script: &str) -> Output {
     use std::io::Write;
