@@ -60,12 +60,23 @@ pub struct FeaturesArgs {
 /// Arguments of `freemesh mesh`.
 #[derive(Debug, clap::Args)]
 pub struct MeshArgs {
-    /// The domain file.
-    pub domain: PathBuf,
+    /// The domain file(s). Several files, or a quoted glob
+    /// ('domains/*.json'), are meshed in parallel, one output per input.
+    #[arg(required = true)]
+    pub domains: Vec<PathBuf>,
     /// Output file; the format follows the extension (.msh, .vtk, .svg,
-    /// .json). Repeat for several.
+    /// .json). Repeat for several. With several domains, write {stem} for
+    /// each domain's file name without extension: -o 'out/{stem}.msh'.
     #[arg(short = 'o', long = "output", required = true)]
     pub outputs: Vec<PathBuf>,
+    /// Worker threads for several domains, each with its own engine
+    /// (default: the number of cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Report where the time went: the engine's queries and time per
+    /// element against the host's.
+    #[arg(long)]
+    pub stats: bool,
     /// Target boundary segment length (replaces the domain's size).
     #[arg(long)]
     pub size: Option<f64>,
@@ -76,7 +87,8 @@ pub struct MeshArgs {
     /// for several.
     #[arg(long = "kb")]
     pub kb: Vec<PathBuf>,
-    /// Write the inference trace as JSON Lines, one object per element.
+    /// Write the inference trace as JSON Lines, one object per element
+    /// ({stem} as for -o).
     #[arg(long)]
     pub trace: Option<PathBuf>,
 }

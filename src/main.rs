@@ -143,33 +143,164 @@ fn features(args: cli::FeaturesArgs) -> Result<()> {
 }
 
 fn mesh(args: cli::MeshArgs) -> Result<()> {
-    let t0 = Instant::now();
-    let formats: Vec<(PathBuf, Format)> = args
+    let formats: Vec<Format> = args
         .outputs
         .iter()
-        .map(|p| Ok((p.clone(), Format::from_path(p)?)))
+        .map(|p| Ok(Format::from_path(p)?))
         .collect::<Result<_>>()?;
-    let domain = Domain::from_file(&args.domain.to_string_lossy())?;
-    warn_unknown_keys(&domain, &args.domain);
-    let mut kb = load_kb(&args.kb)?;
+    let domains = expand_globs(&args.domains)?;
+    if domains.len() == 1 {
+        let outputs: Vec<(PathBuf, Format)> = args.outputs.iter().cloned().zip(formats).collect();
+        let mut kb = load_kb(&args.kb)?;
+        return mesh_one(&domains[0], &outputs, args.trace.as_deref(), &mut kb, &args, true);
+    }
+    // Several domains: every output must be told apart by {stem}.
+    for p in args.outputs.iter().chain(args.trace.iter()) {
+        if !p.to_string_lossy().contains("{stem}") {
+            anyhow::bail!(
+                "{} domains and one output name {}: write {{stem}} where each domain's name goes (-o 'out/{{stem}}.msh')",
+                domains.len(),
+                p.display()
+            );
+        }
+    }
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, domains.len());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let failed = std::sync::atomic::AtomicUsize::new(0);
+    let bar = progress_bar(domains.len() as u64, "domains");
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| {
+                // one engine per worker, built once
+                let mut kb = match load_kb(&args.kb) {
+                    Ok(kb) => kb,
+                    Err(e) => {
+                        eprintln!("error: {e:#}");
+                        failed.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                        return;
+                    }
+                };
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                    let Some(d) = domains.get(i) else { break };
+                    let stem = d.file_stem().map_or_else(|| format!("{i}"), |s| s.to_string_lossy().into_owned());
+                    let fill = |p: &PathBuf| PathBuf::from(p.to_string_lossy().replace("{stem}", &stem));
+                    let outputs: Vec<(PathBuf, Format)> =
+                        args.outputs.iter().map(fill).zip(formats.iter().copied()).collect();
+                    let trace = args.trace.as_ref().map(fill);
+                    if let Err(e) = mesh_one(d, &outputs, trace.as_deref(), &mut kb, &args, false) {
+                        bar.suspend(|| eprintln!("error: {}: {}", d.display(), one_line(&format!("{e:#}"))));
+                        failed.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                    }
+                    bar.inc(1);
+                }
+            });
+        }
+    });
+    bar.finish_and_clear();
+    let failed = failed.into_inner();
+    if failed > 0 {
+        anyhow::bail!("{failed} of {} domains failed", domains.len());
+    }
+    Ok(())
+}
+
+/// The domain arguments with quoted globs expanded, in order.
+fn expand_globs(args: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for a in args {
+        let text = a.to_string_lossy();
+        if !text.contains(['*', '?', '[']) {
+            out.push(a.clone());
+            continue;
+        }
+        let mut found: Vec<PathBuf> = glob::glob(&text)
+            .with_context(|| format!("the pattern {text}"))?
+            .filter_map(Result::ok)
+            .collect();
+        if found.is_empty() {
+            anyhow::bail!("no file matches {text}");
+        }
+        found.sort();
+        out.extend(found);
+    }
+    Ok(out)
+}
+
+/// A progress bar on standard error, drawn only on a terminal.
+fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {what} ({{eta}} left)"
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Meshes one domain into its outputs, with a summary line on stderr.
+fn mesh_one(
+    path: &std::path::Path,
+    outputs: &[(PathBuf, Format)],
+    trace_path: Option<&std::path::Path>,
+    kb: &mut KnowledgeBase,
+    args: &cli::MeshArgs,
+    show_progress: bool,
+) -> Result<()> {
+    let t0 = Instant::now();
+    let domain = Domain::from_file(&path.to_string_lossy())?;
+    warn_unknown_keys(&domain, path);
     let opts = Options::default()
         .with_size(args.size)
         .with_max_size(args.max_size);
-    let result = mesh_domain(&domain, &mut kb, &opts, &mut |_| {})?;
-    let mut files: Vec<(PathBuf, String)> = formats
+    // A bar for runs longer than a second: made on the first report
+    // after one second, sized by the element estimate.
+    let size = args.size.unwrap_or(domain.size);
+    let estimate = (domain.outer.signed_area().abs() / (size * size)).max(1.0) as u64;
+    let mut bar: Option<indicatif::ProgressBar> = None;
+    let mut progress = |quads: usize| {
+        if !show_progress {
+            return;
+        }
+        if bar.is_none() && t0.elapsed().as_secs_f64() > 1.0 {
+            bar = Some(progress_bar(estimate, "elements (estimate)"));
+        }
+        if let Some(b) = &bar {
+            b.set_position(quads as u64);
+        }
+    };
+    let result = mesh_domain(&domain, kb, &opts, &mut progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let result = result?;
+    let mut files: Vec<(PathBuf, String)> = outputs
         .iter()
         .map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f)))
         .collect();
-    if let Some(t) = &args.trace {
+    if let Some(t) = trace_path {
         let mut text = String::new();
         for step in &result.trace {
             text.push_str(&step.to_json_line());
             text.push('\n');
         }
-        files.push((t.clone(), text));
+        files.push((t.to_path_buf(), text));
     }
     write_all(&files).context("writing the outputs")?;
     let q = &result.quality;
+    let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
         "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
         domain.name,
@@ -184,7 +315,22 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         } else {
             ""
         },
-        t0.elapsed().as_secs_f64()
+        elapsed
     );
+    if args.stats {
+        let k = &result.kb_stats;
+        let quads = q.quads.max(1) as f64;
+        let engine = k.engine_time.as_secs_f64();
+        eprintln!(
+            "{}: engine {:.3} s in {} queries ({} more answered from the memo), {:.2} queries and {:.1} us of engine time per element; host {:.3} s",
+            domain.name,
+            engine,
+            k.engine_queries,
+            k.cached_queries,
+            (k.engine_queries + k.cached_queries) as f64 / quads,
+            engine * 1e6 / quads,
+            elapsed - engine
+        );
+    }
     Ok(())
 }
