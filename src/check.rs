@@ -27,6 +27,30 @@ pub enum MeshCheckError {
         /// Area of the discretised domain.
         want: f64,
     },
+    /// A boundary or inner-line segment that is no element's edge.
+    #[error("boundary segment ({0}, {1}) is no element's edge")]
+    BoundaryNotFollowed(u32, u32),
+}
+
+/// Checks that every boundary segment (loops and inner lines) is an edge
+/// of an element. Run it before nodes no element keeps are dropped: they
+/// take their segments with them.
+pub fn check_boundary_followed(mesh: &Mesh) -> Result<(), MeshCheckError> {
+    let mut edges = std::collections::HashSet::with_capacity(mesh.quads.len() * 4);
+    for q in &mesh.quads {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    match mesh
+        .boundary
+        .iter()
+        .find(|e| !edges.contains(&(e.a.min(e.b), e.a.max(e.b))))
+    {
+        Some(e) => Err(MeshCheckError::BoundaryNotFollowed(e.a, e.b)),
+        None => Ok(()),
+    }
 }
 
 /// Checks a mesh against the area `want` of the discretised domain.

@@ -188,11 +188,21 @@ pub fn mesh_domain(
     }
     let kb_before = kb.stats;
     let mut m = start_mesher(domain, kb, opts.size)?;
-    match m.run(progress) {
-        Ok(()) => finish(&mut m, opts, kb_before),
-        // The rules and the loop subdivision gave up: the last resort
-        // meshes the whole domain (see triangle_fallback.rs).
-        Err(e @ (mesher::MeshError::Stuck { .. } | mesher::MeshError::Runaway(_))) => {
+    let by_rules = m
+        .run(progress)
+        .map_err(Error::from)
+        .and_then(|()| finish(&mut m, opts, kb_before));
+    match by_rules {
+        Ok(r) => Ok(r),
+        // The rules and the loop subdivision gave up, or made a mesh that
+        // fails its check: the last resort meshes the whole domain (see
+        // triangle_fallback.rs). A KB fault is not recovered: it is the
+        // user's rule, and the run stops naming it.
+        Err(
+            e @ (Error::Mesh(mesher::MeshError::Stuck { .. })
+            | Error::Mesh(mesher::MeshError::Runaway(_))
+            | Error::Check(_)),
+        ) => {
             // A debugging aid: the state where meshing stopped, as a picture.
             if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
                 let _ = std::fs::write(
@@ -257,6 +267,7 @@ fn finish_mesh(
     kb_before: kb::KbStats,
     kb_after: kb::KbStats,
 ) -> Result<MeshResult, Error> {
+    check::check_boundary_followed(&mesh)?;
     let map = mesh.compact();
     let remap = |x: i64| {
         if x < 0 {

@@ -152,7 +152,14 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     if domains.len() == 1 {
         let outputs: Vec<(PathBuf, Format)> = args.outputs.iter().cloned().zip(formats).collect();
         let mut kb = load_kb(&args.kb)?;
-        return mesh_one(&domains[0], &outputs, args.trace.as_deref(), &mut kb, &args, true);
+        return mesh_one(
+            &domains[0],
+            &outputs,
+            args.trace.as_deref(),
+            &mut kb,
+            &args,
+            true,
+        );
     }
     // Several domains: every output must be told apart by {stem}.
     for p in args.outputs.iter().chain(args.trace.iter()) {
@@ -186,13 +193,22 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
                 loop {
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
                     let Some(d) = domains.get(i) else { break };
-                    let stem = d.file_stem().map_or_else(|| format!("{i}"), |s| s.to_string_lossy().into_owned());
-                    let fill = |p: &PathBuf| PathBuf::from(p.to_string_lossy().replace("{stem}", &stem));
-                    let outputs: Vec<(PathBuf, Format)> =
-                        args.outputs.iter().map(fill).zip(formats.iter().copied()).collect();
+                    let stem = d
+                        .file_stem()
+                        .map_or_else(|| format!("{i}"), |s| s.to_string_lossy().into_owned());
+                    let fill =
+                        |p: &PathBuf| PathBuf::from(p.to_string_lossy().replace("{stem}", &stem));
+                    let outputs: Vec<(PathBuf, Format)> = args
+                        .outputs
+                        .iter()
+                        .map(fill)
+                        .zip(formats.iter().copied())
+                        .collect();
                     let trace = args.trace.as_ref().map(fill);
                     if let Err(e) = mesh_one(d, &outputs, trace.as_deref(), &mut kb, &args, false) {
-                        bar.suspend(|| eprintln!("error: {}: {}", d.display(), one_line(&format!("{e:#}"))));
+                        bar.suspend(|| {
+                            eprintln!("error: {}: {}", d.display(), one_line(&format!("{e:#}")))
+                        });
                         failed.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
                     }
                     bar.inc(1);

@@ -219,6 +219,11 @@ pub struct Mesher<'k> {
 }
 
 const NOT_FAILED: u32 = u32::MAX;
+/// Passes of the loop subdivision before the run gives up (and the last
+/// resort, triangle_fallback.rs, meshes the domain). The public domains
+/// need at most 19; a run past 100 is going round in circles, and every
+/// pass costs time in proportion to the mesh.
+const MAX_FALLBACK_PASSES: usize = 100;
 /// No element may leave the remaining domain a sharper corner than this
 /// (deg): a spike cannot be meshed.
 const MIN_FRONT_ANGLE: f64 = 12.0;
@@ -555,7 +560,7 @@ impl<'k> Mesher<'k> {
             );
         }
         let mut changed = false;
-        if self.fallback_passes <= 2000 {
+        if self.fallback_passes <= MAX_FALLBACK_PASSES {
             for l in loops {
                 if self.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
                     changed = true;
@@ -1461,6 +1466,10 @@ impl<'k> Mesher<'k> {
                 {
                     continue;
                 }
+                // no chord segment below the run's minimum edge
+                if len / (k as f64) < self.min_edge {
+                    continue;
+                }
                 let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs()
                     + 10.0 * (gap.min(n - gap) as f64 / n as f64);
                 cands.push((score, i, j, k, h));
@@ -1667,6 +1676,7 @@ impl<'k> Mesher<'k> {
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
         // The centre and radius: the best of a grid over the loop's box,
         // judged by the smallest angle of the ring's elements.
+        let min_edge = self.min_edge;
         let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
             let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
             if rmax <= 0.0 {
@@ -1677,6 +1687,14 @@ impl<'k> Mesher<'k> {
                 .map(|&x| c + (x - c).normalize_or_zero() * rmax * t)
                 .collect();
             if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
+                return None;
+            }
+            // no edge below the run's minimum: rings inside rings would
+            // otherwise shrink without end
+            if (0..n).any(|i| {
+                (inner[(i + 1) % n] - inner[i]).length() < min_edge
+                    || (inner[i] - p[i]).length() < min_edge
+            }) {
                 return None;
             }
             let mut worst = f64::MAX;

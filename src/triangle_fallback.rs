@@ -31,52 +31,100 @@ pub struct FallbackError(String);
 ///
 /// `size` is the boundary segment length; interior points are placed on a
 /// lattice of that spacing, kept at least half of it from the boundary.
+/// Where a thin triangle meets a strongly curved boundary segment so that
+/// no centre makes its quads convex, that segment is split at its curve
+/// point and the domain triangulated again (at most a few rounds).
 pub fn mesh_by_triangles(
     domain: &Domain,
     disc: &Discretised,
     size: f64,
 ) -> Result<Mesh, FallbackError> {
     let src = &disc.mesh;
+    // the boundary alone, in a compact numbering
+    let mut nodes: Vec<DVec2> = Vec::new();
+    let mut renumber: HashMap<u32, u32> = HashMap::new();
+    let mut boundary: Vec<BoundaryEdge> = Vec::with_capacity(src.boundary.len());
+    for e in &src.boundary {
+        let mut id = |n: u32| {
+            *renumber.entry(n).or_insert_with(|| {
+                nodes.push(src.nodes[n as usize]);
+                (nodes.len() - 1) as u32
+            })
+        };
+        let (a, b) = (id(e.a), id(e.b));
+        boundary.push(BoundaryEdge {
+            a,
+            b,
+            group: e.group,
+        });
+    }
+    let chains: Vec<&crate::domain::Chain> = domain.chains().collect();
+    const SPLIT_ROUNDS: usize = 4;
+    for round in 0..=SPLIT_ROUNDS {
+        let last = round == SPLIT_ROUNDS;
+        let to_split = match triangles_to_quads(domain, &nodes, &boundary, &src.groups, size, last)?
+        {
+            Ok(mesh) => return Ok(mesh),
+            Err(edges) => edges,
+        };
+        let mut next = Vec::with_capacity(boundary.len() + to_split.len());
+        for e in &boundary {
+            if to_split.contains(&(e.a.min(e.b), e.a.max(e.b))) {
+                let m = (nodes[e.a as usize] + nodes[e.b as usize]) / 2.0;
+                nodes.push(project_on_chain(chains[e.group as usize], m));
+                let n = (nodes.len() - 1) as u32;
+                next.push(BoundaryEdge {
+                    a: e.a,
+                    b: n,
+                    group: e.group,
+                });
+                next.push(BoundaryEdge {
+                    a: n,
+                    b: e.b,
+                    group: e.group,
+                });
+            } else {
+                next.push(*e);
+            }
+        }
+        boundary = next;
+    }
+    unreachable!("the last round always gives a mesh")
+}
+
+/// One round: the mesh, or (when not `last`) the boundary segments to
+/// split because no centre makes their triangle's quads convex.
+#[allow(clippy::type_complexity)]
+fn triangles_to_quads(
+    domain: &Domain,
+    boundary_nodes: &[DVec2],
+    boundary: &[BoundaryEdge],
+    groups: &[String],
+    size: f64,
+    last: bool,
+) -> Result<Result<Mesh, HashSet<(u32, u32)>>, FallbackError> {
     let loops = 1 + domain.holes.len() as u32;
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handle_node: HashMap<FixedVertexHandle, u32> = HashMap::new();
     let mut node_handle: HashMap<u32, FixedVertexHandle> = HashMap::new();
     let mut mesh = Mesh {
-        groups: src.groups.clone(),
+        groups: groups.to_vec(),
         ..Mesh::default()
     };
-    // boundary nodes keep their ids in a new, compact numbering
-    let mut renumber: HashMap<u32, u32> = HashMap::new();
-    for e in &src.boundary {
-        for n in [e.a, e.b] {
-            if renumber.contains_key(&n) {
-                continue;
-            }
-            let p = src.nodes[n as usize];
-            let id = mesh.add_node(p, NodeKind::Boundary);
-            renumber.insert(n, id);
-            let h = cdt
-                .insert(Point2::new(p.x, p.y))
-                .map_err(|e| FallbackError(format!("boundary node {n}: {e:?}")))?;
-            if handle_node.insert(h, id).is_some() {
-                return Err(FallbackError(format!(
-                    "two boundary nodes at ({}, {})",
-                    p.x, p.y
-                )));
-            }
-            node_handle.insert(id, h);
+    for &p in boundary_nodes {
+        let id = mesh.add_node(p, NodeKind::Boundary);
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|e| FallbackError(format!("boundary node {id}: {e:?}")))?;
+        if handle_node.insert(h, id).is_some() {
+            return Err(FallbackError(format!(
+                "two boundary nodes at ({}, {})",
+                p.x, p.y
+            )));
         }
+        node_handle.insert(id, h);
     }
-    let boundary: Vec<BoundaryEdge> = src
-        .boundary
-        .iter()
-        .map(|e| BoundaryEdge {
-            a: renumber[&e.a],
-            b: renumber[&e.b],
-            group: e.group,
-        })
-        .collect();
-    for e in &boundary {
+    for e in boundary {
         let made = cdt.try_add_constraint(node_handle[&e.a], node_handle[&e.b]);
         if made.len() != 1 {
             return Err(FallbackError(format!(
@@ -85,7 +133,7 @@ pub fn mesh_by_triangles(
             )));
         }
     }
-    for p in lattice_points(&mesh.nodes, &boundary, loops, size) {
+    for p in lattice_points(&mesh.nodes, boundary, loops, size) {
         let h = cdt
             .insert(Point2::new(p.x, p.y))
             .map_err(|e| FallbackError(format!("interior point: {e:?}")))?;
@@ -93,7 +141,7 @@ pub fn mesh_by_triangles(
             v.insert(mesh.add_node(p, NodeKind::Interior));
         }
     }
-    let triangles = inside_triangles(&cdt, &handle_node, &boundary, loops)?;
+    let triangles = inside_triangles(&cdt, &handle_node, boundary, loops)?;
     // split each triangle into three quads
     let on_boundary: HashMap<(u32, u32), u32> = boundary
         .iter()
@@ -113,50 +161,80 @@ pub fn mesh_by_triangles(
             }
         })
     };
-    for [a, b, c] in triangles {
-        let (pa, pb, pc) = (
-            mesh.nodes[a as usize],
-            mesh.nodes[b as usize],
-            mesh.nodes[c as usize],
-        );
-        let g = mesh.add_node((pa + pb + pc) / 3.0, NodeKind::Interior);
-        let (mab, mbc, mca) = (
-            mid(&mut mesh, a, b),
-            mid(&mut mesh, b, c),
-            mid(&mut mesh, c, a),
-        );
+    // Midpoints first, so each centre can follow its edges' midpoints:
+    // the centre is the mean of the hexagon of corners and midpoints,
+    // the centroid where the edges are straight, moved with a curved
+    // edge's midpoint where one is projected onto its curve.
+    let mids: Vec<[u32; 3]> = triangles
+        .iter()
+        .map(|&[a, b, c]| {
+            [
+                mid(&mut mesh, a, b),
+                mid(&mut mesh, b, c),
+                mid(&mut mesh, c, a),
+            ]
+        })
+        .collect();
+    let mut centres = Vec::with_capacity(triangles.len());
+    for (&[a, b, c], &[mab, mbc, mca]) in triangles.iter().zip(&mids) {
+        let centre = [a, b, c, mab, mbc, mca]
+            .iter()
+            .map(|&n| mesh.nodes[n as usize])
+            .sum::<DVec2>()
+            / 6.0;
+        let g = mesh.add_node(centre, NodeKind::Interior);
+        centres.push(g);
         mesh.quads.push([a, mab, g, mca]);
         mesh.quads.push([b, mbc, g, mab]);
         mesh.quads.push([c, mca, g, mbc]);
     }
-    // A midpoint put on a strongly curved boundary may reach past the
-    // centroid of a thin triangle: pull it back towards its chord until
-    // every quad round it is convex.
-    let mut around: HashMap<u32, Vec<usize>> = HashMap::new();
-    for (qi, q) in mesh.quads.iter().enumerate() {
-        for &n in q {
-            around.entry(n).or_default().push(qi);
+    // Where a midpoint on a strongly curved boundary makes a quad of its
+    // (thin) triangle non-convex: first look for a better centre; failing
+    // that, pull the midpoint back towards its chord a step at a time,
+    // looking for the centre again at each step (the mesh stays valid;
+    // such a node is then off its curve by less than the sagitta).
+    let mut to_split = HashSet::new();
+    for t in 0..triangles.len() {
+        let quads = [3 * t, 3 * t + 1, 3 * t + 2];
+        if quads.iter().all(|&q| quad_convex(&mesh, q)) {
+            continue;
         }
-    }
-    for e in &boundary {
-        let m = midpoint[&(e.a.min(e.b), e.a.max(e.b))];
-        let chord = (mesh.nodes[e.a as usize] + mesh.nodes[e.b as usize]) / 2.0;
-        let curve = mesh.nodes[m as usize];
-        let convex = |mesh: &Mesh| {
-            around[&m]
+        let [a, b, c] = triangles[t];
+        let g = centres[t];
+        if place_centre(&mut mesh, [a, b, c], g, quads) {
+            continue;
+        }
+        let curved: Vec<(u32, DVec2, DVec2)> =
+            [(a, b, mids[t][0]), (b, c, mids[t][1]), (c, a, mids[t][2])]
                 .iter()
-                .all(|&qi| crate::geometry::quad_is_convex(mesh.quad_points(qi)))
-        };
-        let mut t = 1.0;
-        while !convex(&mesh) && t > 1e-3 {
-            t /= 2.0;
-            mesh.nodes[m as usize] = chord + (curve - chord) * t;
+                .filter(|(x, y, _)| on_boundary.contains_key(&((*x).min(*y), (*x).max(*y))))
+                .map(|&(x, y, m)| {
+                    let chord = (mesh.nodes[x as usize] + mesh.nodes[y as usize]) / 2.0;
+                    (m, chord, mesh.nodes[m as usize])
+                })
+                .collect();
+        if !last && !curved.is_empty() {
+            for (x, y) in [(a, b), (b, c), (c, a)] {
+                if on_boundary.contains_key(&(x.min(y), x.max(y))) {
+                    to_split.insert((x.min(y), x.max(y)));
+                }
+            }
+            continue;
         }
-        if !convex(&mesh) {
-            mesh.nodes[m as usize] = chord;
+        for step in 1..=10 {
+            let f = 1.0 - step as f64 / 10.0;
+            for &(m, chord, curve) in &curved {
+                mesh.nodes[m as usize] = chord + (curve - chord) * f;
+            }
+            if place_centre(&mut mesh, [a, b, c], g, quads) {
+                break;
+            }
         }
     }
-    for e in &boundary {
+    if !to_split.is_empty() {
+        return Ok(Err(to_split));
+    }
+    for e in boundary {
         let m = midpoint[&(e.a.min(e.b), e.a.max(e.b))];
         mesh.boundary.push(BoundaryEdge {
             a: e.a,
@@ -169,7 +247,44 @@ pub fn mesh_by_triangles(
             group: e.group,
         });
     }
-    Ok(mesh)
+    Ok(Ok(mesh))
+}
+
+fn quad_convex(mesh: &Mesh, q: usize) -> bool {
+    crate::geometry::quad_is_convex(mesh.quad_points(q))
+}
+
+/// Moves centre node `g` of triangle `tri` (whose three quads are
+/// `quads`) to the point of a barycentric grid over the triangle that
+/// makes the three quads convex with the widest margin. False if none
+/// does (g is left where it was).
+fn place_centre(mesh: &mut Mesh, tri: [u32; 3], g: u32, quads: [usize; 3]) -> bool {
+    let corners = tri.map(|n| mesh.nodes[n as usize]);
+    let original = mesh.nodes[g as usize];
+    let margin = |mesh: &Mesh| {
+        quads
+            .iter()
+            .flat_map(|&q| {
+                let p = mesh.quad_points(q);
+                (0..4).map(move |i| crate::geometry::orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]))
+            })
+            .fold(f64::MAX, f64::min)
+    };
+    let mut best = (margin(mesh), original);
+    const STEPS: usize = 40;
+    for i in 1..STEPS {
+        for j in 1..STEPS - i {
+            let (u, v) = (i as f64 / STEPS as f64, j as f64 / STEPS as f64);
+            let cand = corners[0] * (1.0 - u - v) + corners[1] * u + corners[2] * v;
+            mesh.nodes[g as usize] = cand;
+            let m = margin(mesh);
+            if m > best.0 {
+                best = (m, cand);
+            }
+        }
+    }
+    mesh.nodes[g as usize] = best.1;
+    best.0 > 0.0
 }
 
 /// The point of the chain's curves nearest to `p`.
