@@ -1466,8 +1466,8 @@ impl<'k> Mesher<'k> {
                 {
                     continue;
                 }
-                // no chord segment below the run's minimum edge
-                if len / (k as f64) < self.min_edge {
+                // no chord segment far below the run's minimum edge
+                if len / (k as f64) < self.min_edge / 4.0 {
                     continue;
                 }
                 let score = si.min(sj).min(90.0) - 40.0 * ((len / k as f64) / h).ln().abs()
@@ -1676,7 +1676,9 @@ impl<'k> Mesher<'k> {
         let p: Vec<DVec2> = ids.iter().map(|&i| self.mesh.nodes[i as usize]).collect();
         // The centre and radius: the best of a grid over the loop's box,
         // judged by the smallest angle of the ring's elements.
-        let min_edge = self.min_edge;
+        // a quarter of the rules' minimum: a ring may be finer than the
+        // elements round it, but rings in rings cannot shrink for ever
+        let min_edge = self.min_edge / 4.0;
         let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
             let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
             if rmax <= 0.0 {
