@@ -214,6 +214,9 @@ pub struct Mesher<'k> {
     /// region they already failed in.
     fallback_only: std::collections::HashSet<u32>,
     started: bool,
+    /// The element on the left of each directed element edge, kept as
+    /// elements come and go (taking back a layer asks it).
+    edge_owner: HashMap<(u32, u32), u32>,
     /// The area of the domain (what the finished mesh must cover).
     pub area: f64,
 }
@@ -280,6 +283,7 @@ impl<'k> Mesher<'k> {
             fallback_passes: 0,
             fallback_only: Default::default(),
             started: false,
+            edge_owner: HashMap::new(),
             area,
         }
     }
@@ -1067,6 +1071,33 @@ impl<'k> Mesher<'k> {
         Ok(true)
     }
 
+    /// Adds an element, noting it as the owner of its edges.
+    fn push_quad(&mut self, q: [u32; 4]) {
+        let qi = self.mesh.quads.len() as u32;
+        for i in 0..4 {
+            self.edge_owner.insert((q[i], q[(i + 1) % 4]), qi);
+        }
+        self.mesh.quads.push(q);
+    }
+
+    /// Removes element `qi` (the last element takes its place).
+    fn remove_quad(&mut self, qi: usize) -> [u32; 4] {
+        let q = self.mesh.quads.swap_remove(qi);
+        for i in 0..4 {
+            let e = (q[i], q[(i + 1) % 4]);
+            if self.edge_owner.get(&e) == Some(&(qi as u32)) {
+                self.edge_owner.remove(&e);
+            }
+        }
+        if let Some(&moved) = self.mesh.quads.get(qi) {
+            for i in 0..4 {
+                self.edge_owner
+                    .insert((moved[i], moved[(i + 1) % 4]), qi as u32);
+            }
+        }
+        q
+    }
+
     fn labels_shifted(&self, lab: &Labels) -> Labels {
         Labels {
             n7: lab.n4,
@@ -1164,7 +1195,7 @@ impl<'k> Mesher<'k> {
         } else {
             [n1, n2, n3, n4]
         };
-        self.mesh.quads.push(ids);
+        self.push_quad(ids);
         if self.debug_check {
             self.debug_overlap(self.mesh.quads.len() - 1);
         }
@@ -1350,7 +1381,7 @@ impl<'k> Mesher<'k> {
         self.front.close_loop(l);
         self.front.commit(&self.mesh.nodes);
         for q in quads {
-            self.mesh.quads.push(q);
+            self.push_quad(q);
             if self.debug_check {
                 self.debug_overlap(self.mesh.quads.len() - 1);
             }
@@ -1529,20 +1560,14 @@ impl<'k> Mesher<'k> {
     /// Takes back every element that shares an edge with loop `l`; the
     /// loop grows round them. False if there is none.
     fn unmesh_layer(&mut self, l: u32) -> Result<bool, MeshError> {
-        let mut owner: HashMap<(u32, u32), usize> = HashMap::new();
-        for (qi, q) in self.mesh.quads.iter().enumerate() {
-            for i in 0..4 {
-                owner.insert((q[i], q[(i + 1) % 4]), qi);
-            }
-        }
         let mut victims: Vec<usize> = self
             .front
             .loop_fvs(l)
             .iter()
             .filter_map(|&fv| {
-                owner
+                self.edge_owner
                     .get(&(self.front.node(self.front.next(fv)), self.front.node(fv)))
-                    .copied()
+                    .map(|&q| q as usize)
             })
             .collect();
         victims.sort_unstable();
@@ -1604,7 +1629,7 @@ impl<'k> Mesher<'k> {
         }
         removed.sort_unstable();
         for &qi in removed.iter().rev() {
-            let q = self.mesh.quads.swap_remove(qi);
+            let q = self.remove_quad(qi);
             self.stats.unmeshed += 1;
             let step = self.trace.len() + 1;
             self.trace.push(TraceStep {
