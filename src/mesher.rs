@@ -565,7 +565,13 @@ impl<'k> Mesher<'k> {
         }
         let mut changed = false;
         if self.fallback_passes <= MAX_FALLBACK_PASSES {
+            let mut open = Vec::new();
             for l in loops {
+                let (zipped, rest) = self.zip_slits(l);
+                changed |= zipped;
+                open.extend(rest);
+            }
+            for l in open {
                 if self.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
                     changed = true;
                     continue;
@@ -1557,6 +1563,48 @@ impl<'k> Mesher<'k> {
         Ok(true)
     }
 
+    /// Whether the front edge a-b, met both ways, bounds nothing: elements
+    /// on both sides (fronts that met), or none on either side and not an
+    /// input line (left where elements were taken back). An inner line of
+    /// the input, with no element yet, bounds the domain on both sides.
+    fn slit_is_inside(&self, a: u32, b: u32) -> bool {
+        let owned = (
+            self.edge_owner.contains_key(&(a, b)),
+            self.edge_owner.contains_key(&(b, a)),
+        );
+        let input = |n: u32| self.mesh.kinds[n as usize] == NodeKind::Boundary;
+        match owned {
+            (true, true) => true,
+            (false, false) => !(input(a) && input(b)),
+            _ => false,
+        }
+    }
+
+    /// Zips the slits of loop `l`: a front edge met both ways, a->b->a,
+    /// that bounds nothing (see `slit_is_inside`). Returns whether a slit
+    /// was zipped, and the loops left.
+    fn zip_slits(&mut self, l: u32) -> (bool, Vec<u32>) {
+        let mut zipped = false;
+        let mut open = vec![l];
+        let mut done = Vec::new();
+        'loops: while let Some(l) = open.pop() {
+            for fv in self.front.loop_fvs(l) {
+                let (p, n) = (self.front.prev(fv), self.front.next(fv));
+                let (a, b) = (self.front.node(p), self.front.node(fv));
+                if p != n && self.front.node(n) == a && self.slit_is_inside(a, b) {
+                    self.front.begin();
+                    let rest = self.front.split_pinch(p, n);
+                    self.front.commit(&self.mesh.nodes);
+                    zipped = true;
+                    open.extend(rest);
+                    continue 'loops;
+                }
+            }
+            done.push(l);
+        }
+        (zipped, done)
+    }
+
     /// Takes back every element that shares an edge with loop `l`; the
     /// loop grows round them. False if there is none.
     fn unmesh_layer(&mut self, l: u32) -> Result<bool, MeshError> {
@@ -1641,6 +1689,10 @@ impl<'k> Mesher<'k> {
                 redesign: vec![],
                 element: q.iter().map(|&x| x as i64).collect(),
             });
+        }
+        // edges between two elements taken back bound nothing now
+        for t in self.front.touched_loops() {
+            self.zip_slits(t);
         }
         let touched = self.front.take_touched();
         for &t in &touched {
