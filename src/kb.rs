@@ -360,22 +360,20 @@ impl KnowledgeBase {
     /// the first answer's `R`, or the rule at fault as an error.
     pub fn ask_bounded(&mut self, query: &str, context: &str) -> Result<Option<Term>, KbError> {
         let ans = self.ask_cached(query, "R")?;
-        match &ans {
-            Some(Term::Compound(f, args)) if f == "fault" && args.len() == 2 => {
-                let why = match &args[1] {
-                    Term::Compound(r, e) if r == "raised" && e.len() == 1 => {
-                        format!("raised {}", term_text(&e[0]))
-                    }
-                    _ => "ran past the inference limit (2,000,000 inferences)".to_string(),
-                };
-                Err(KbError::Rule {
-                    rule: term_text(&args[0]),
-                    why,
-                    context: context.to_string(),
-                })
-            }
-            _ => Ok(ans),
-        }
+        fault_to_error(ans, context)
+    }
+
+    /// Like `ask_bounded`, for a caller that memoises the answers itself.
+    pub fn ask_bounded_fresh(
+        &mut self,
+        query: &str,
+        context: &str,
+    ) -> Result<Option<Term>, KbError> {
+        let ans = self.run_limited(query, 1)?;
+        fault_to_error(
+            ans.into_iter().next().and_then(|mut b| b.remove("R")),
+            context,
+        )
     }
 
     /// The first answer's binding of `var`, memoised by query text.
@@ -484,5 +482,25 @@ impl KnowledgeBase {
                 answer: t.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()),
                 expected: "a number".into(),
             })
+    }
+}
+
+/// The answer of a bounded question, or the rule at fault as an error.
+fn fault_to_error(ans: Option<Term>, context: &str) -> Result<Option<Term>, KbError> {
+    match &ans {
+        Some(Term::Compound(f, args)) if f == "fault" && args.len() == 2 => {
+            let why = match &args[1] {
+                Term::Compound(r, e) if r == "raised" && e.len() == 1 => {
+                    format!("raised {}", term_text(&e[0]))
+                }
+                _ => "ran past the inference limit (2,000,000 inferences)".to_string(),
+            };
+            Err(KbError::Rule {
+                rule: term_text(&args[0]),
+                why,
+                context: context.to_string(),
+            })
+        }
+        _ => Ok(ans),
     }
 }

@@ -252,6 +252,7 @@ pub fn finish(
     opts: &Options,
     kb_before: kb::KbStats,
 ) -> Result<MeshResult, Error> {
+    m.release_working_state();
     let mesh = std::mem::take(&mut m.mesh);
     let trace = std::mem::take(&mut m.trace);
     let kb_after = m.kb().stats;

@@ -7,7 +7,7 @@
 
 use glam::DVec2;
 use std::cmp::Reverse;
-use std::collections::{BTreeMap, BinaryHeap, HashMap};
+use std::collections::{BinaryHeap, HashMap};
 
 use crate::boundary::Discretised;
 use crate::design::{place, Action, Corner, Neighbourhood};
@@ -18,7 +18,7 @@ use crate::geometry::{
 };
 use crate::kb::{term_text, KbError, KnowledgeBase};
 use crate::mesh::{Mesh, NodeKind};
-use crate::trace::TraceStep;
+use crate::trace::{Angles, TraceStep};
 use scryer_prolog::Term;
 
 /// Why meshing stopped short.
@@ -183,6 +183,21 @@ enum QNode {
     Merged(Fv),
 }
 
+/// What the KB decided for an edge: its feature and action, and the
+/// angles it saw (theta7, theta4, theta1, theta2, theta5).
+#[derive(Debug, Clone)]
+struct Design {
+    feature: std::rc::Rc<str>,
+    action: Action,
+    angles: [f64; 5],
+}
+
+/// The trace's record of the angles a design saw.
+fn angle_map(angles: &[f64; 5]) -> Angles {
+    let names = ["theta7", "theta4", "theta1", "theta2", "theta5"];
+    Angles::new(names.into_iter().zip(angles.iter().copied()).collect())
+}
+
 /// The meshing run.
 pub struct Mesher<'k> {
     kb: &'k mut KnowledgeBase,
@@ -193,7 +208,12 @@ pub struct Mesher<'k> {
     set: Settings,
     version: Vec<u32>,
     failed: Vec<u32>,
-    design: Vec<Option<(String, Action, BTreeMap<String, f64>)>>,
+    /// The KB's design for each queued oriented edge of the live front.
+    design: HashMap<u32, Design>,
+    /// The KB's answers by context (its seven numbers, as the query has
+    /// them): the same context gets the same answer, without building
+    /// the query text again. Cleared when the KB changes.
+    design_memo: HashMap<[u64; 7], Option<(std::rc::Rc<str>, Action)>>,
     heap: BinaryHeap<Reverse<Candidate>>,
     seq: u64,
     /// The inference trace.
@@ -271,7 +291,8 @@ impl<'k> Mesher<'k> {
             set,
             version: Vec::new(),
             failed: Vec::new(),
-            design: Vec::new(),
+            design: HashMap::new(),
+            design_memo: HashMap::new(),
             heap: BinaryHeap::new(),
             seq: 0,
             trace: Vec::new(),
@@ -334,31 +355,28 @@ impl<'k> Mesher<'k> {
         }
     }
 
-    /// The context term of an edge, as the KB sees it, and its angles.
-    fn context(&self, lab: &Labels) -> (String, BTreeMap<String, f64>) {
+    /// The numbers of an edge's context as the KB sees them: the angles
+    /// theta7, theta4, theta1, theta2, theta5 (whole degrees) and the
+    /// neighbouring edges l5, l6 relative to N1N2 (two decimals).
+    fn context_numbers(&self, lab: &Labels) -> [f64; 7] {
         let pos = &self.mesh.nodes;
         let t = |fv| deg_round(self.front.angle(fv, pos));
-        let (t7, t4, t1, t2, t5) = (t(lab.n7), t(lab.n4), t(lab.n1), t(lab.n2), t(lab.n5));
         let l1 = (self.pos(lab.n2) - self.pos(lab.n1)).length().max(1e-300);
         let r = |x: f64| ((x / l1) * 100.0).round() / 100.0;
-        let l5 = r((self.pos(lab.n1) - self.pos(lab.n4)).length());
-        let l6 = r((self.pos(lab.n5) - self.pos(lab.n2)).length());
-        let ctx = format!(
-            "ctx({t7}, {t4}, {t1}, {t2}, {t5}, {}, {})",
-            crate::kb::fmt_float(l5),
-            crate::kb::fmt_float(l6)
-        );
-        let angles = [
-            ("theta7", t7),
-            ("theta4", t4),
-            ("theta1", t1),
-            ("theta2", t2),
-            ("theta5", t5),
+        [
+            t(lab.n7),
+            t(lab.n4),
+            t(lab.n1),
+            t(lab.n2),
+            t(lab.n5),
+            r((self.pos(lab.n1) - self.pos(lab.n4)).length()),
+            r((self.pos(lab.n5) - self.pos(lab.n2)).length()),
         ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .collect();
-        (ctx, angles)
+    }
+
+    /// The context term of an edge, as the KB sees it.
+    fn context(&self, lab: &Labels) -> String {
+        context_text(&self.context_numbers(lab))
     }
 
     fn ensure_capacity(&mut self) {
@@ -366,7 +384,6 @@ impl<'k> Mesher<'k> {
         if self.version.len() < n {
             self.version.resize(n, 0);
             self.failed.resize(n, NOT_FAILED);
-            self.design.resize(n, None);
         }
     }
 
@@ -376,7 +393,7 @@ impl<'k> Mesher<'k> {
         let fv = key / 2;
         let mirrored = key % 2 == 1;
         self.version[key as usize] += 1;
-        self.design[key as usize] = None;
+        self.design.remove(&key);
         if !self.front.alive(fv)
             || self.front.loop_len(self.front.loop_of(fv)) <= 6
             || self.fallback_only.contains(&self.front.loop_of(fv))
@@ -384,26 +401,11 @@ impl<'k> Mesher<'k> {
             return Ok(());
         }
         let lab = self.labels(fv, mirrored);
-        let (ctx, angles) = self.context(&lab);
-        let q = format!("fm_design({ctx}, R).");
-        let Some(ans) = self.kb.ask_bounded(&q, &ctx)? else {
+        let nums = self.context_numbers(&lab);
+        let Some((feature, action)) = self.design_for(&nums)? else {
             return Ok(());
         };
-        let (feature, action) = match &ans {
-            Term::Compound(d, args) if d == "d" && args.len() == 2 => {
-                (term_text(&args[0]), Action::from_term(&args[1]))
-            }
-            _ => (String::new(), None),
-        };
-        let Some(action) = action.filter(|a| a.is_sound()) else {
-            return Err(KbError::Answer {
-                query: format!("feature_action({feature}) on {ctx}"),
-                answer: term_text(&ans),
-                expected: "d(Feature, Action) with a known, sound action".into(),
-            }
-            .into());
-        };
-        let rank = *self.set.rank.get(&feature).unwrap_or(&u32::MAX);
+        let rank = *self.set.rank.get(&*feature).unwrap_or(&u32::MAX);
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2));
         self.seq += 1;
         self.heap.push(Reverse(Candidate {
@@ -413,8 +415,53 @@ impl<'k> Mesher<'k> {
             key,
             version: self.version[key as usize],
         }));
-        self.design[key as usize] = Some((feature, action, angles));
+        let angles = [nums[0], nums[1], nums[2], nums[3], nums[4]];
+        self.design.insert(
+            key,
+            Design {
+                feature,
+                action,
+                angles,
+            },
+        );
         Ok(())
+    }
+
+    /// The KB's feature and action for a context (None: no feature), from
+    /// the memo when this context was asked before.
+    fn design_for(
+        &mut self,
+        nums: &[f64; 7],
+    ) -> Result<Option<(std::rc::Rc<str>, Action)>, MeshError> {
+        let key = nums.map(f64::to_bits);
+        if let Some(d) = self.design_memo.get(&key) {
+            self.kb.stats.cached_queries += 1;
+            return Ok(d.clone());
+        }
+        let ctx = context_text(nums);
+        let q = format!("fm_design({ctx}, R).");
+        let found = match self.kb.ask_bounded_fresh(&q, &ctx)? {
+            None => None,
+            Some(ans) => {
+                let (feature, action) = match &ans {
+                    Term::Compound(d, args) if d == "d" && args.len() == 2 => {
+                        (term_text(&args[0]), Action::from_term(&args[1]))
+                    }
+                    _ => (String::new(), None),
+                };
+                let Some(action) = action.filter(|a| a.is_sound()) else {
+                    return Err(KbError::Answer {
+                        query: format!("feature_action({feature}) on {ctx}"),
+                        answer: term_text(&ans),
+                        expected: "d(Feature, Action) with a known, sound action".into(),
+                    }
+                    .into());
+                };
+                Some((std::rc::Rc::from(feature), action))
+            }
+        };
+        self.design_memo.insert(key, found.clone());
+        Ok(found)
     }
 
     /// Re-classifies every oriented edge whose context involves a changed
@@ -467,7 +514,7 @@ impl<'k> Mesher<'k> {
                 });
                 for mirrored in [false, true] {
                     let lab = self.labels(fv, mirrored);
-                    let (ctx, _) = self.context(&lab);
+                    let ctx = self.context(&lab);
                     let q = format!("fm_design({ctx}, R).");
                     let ans = self.kb.ask_bounded(&q, &ctx)?;
                     let (feature, action) = match &ans {
@@ -526,6 +573,9 @@ impl<'k> Mesher<'k> {
     pub fn step(&mut self) -> Result<bool, MeshError> {
         if !self.started {
             self.start()?;
+        }
+        if self.heap.len() > 4096 && self.heap.len() > 3 * self.design.len() {
+            self.prune_queue();
         }
         while let Some(Reverse(c)) = self.heap.pop() {
             if self.version[c.key as usize] != c.version || self.failed[c.key as usize] == c.version
@@ -595,6 +645,32 @@ impl<'k> Mesher<'k> {
         Ok(true)
     }
 
+    /// Frees what only the recursion needs (the front, its index, the
+    /// queue, the memo) once it is done: smoothing and writing a large
+    /// mesh then run without it.
+    pub fn release_working_state(&mut self) {
+        self.front = Front::default();
+        self.heap = BinaryHeap::new();
+        self.design = HashMap::new();
+        self.design_memo = HashMap::new();
+        self.edge_owner = HashMap::new();
+        self.version = Vec::new();
+        self.failed = Vec::new();
+    }
+
+    /// Drops the queued edges that were classified again since, were
+    /// tried and failed, or left the front: they would only be skipped.
+    /// The order of the rest is kept, so the run is the same.
+    fn prune_queue(&mut self) {
+        let (version, failed, front) = (&self.version, &self.failed, &self.front);
+        let live = |key: u32, v: u32| {
+            version[key as usize] == v && failed[key as usize] != v && front.alive(key / 2)
+        };
+        self.heap.retain(|Reverse(c)| live(c.key, c.version));
+        self.design
+            .retain(|&key, _| live(key, version[key as usize]));
+    }
+
     /// The open loops of the front, as node ids in loop order.
     pub fn front_node_loops(&self) -> Vec<Vec<u32>> {
         self.front
@@ -646,6 +722,7 @@ impl<'k> Mesher<'k> {
     pub fn kb_changed(&mut self) -> Result<(), MeshError> {
         self.set = Settings::read(self.kb)?;
         self.heap.clear();
+        self.design_memo.clear();
         if !self.started {
             return Ok(());
         }
@@ -679,7 +756,7 @@ impl<'k> Mesher<'k> {
                 angles.push(format!("a({n}, {})", f(theta)));
                 for mirrored in [false, true] {
                     let lab = self.labels(fv, mirrored);
-                    let (ctx, _) = self.context(&lab);
+                    let ctx = self.context(&lab);
                     let (a, b) = (self.front.node(lab.n1), self.front.node(lab.n2));
                     ctxs.push(format!("c({a}-{b}, {ctx})"));
                 }
@@ -983,11 +1060,16 @@ impl<'k> Mesher<'k> {
     /// Tries the design for oriented edge `key`: place, redesign, check,
     /// commit. False when no valid element came of it.
     fn try_design(&mut self, key: u32) -> Result<bool, MeshError> {
-        let Some((feature, mut action, angles)) = self.design[key as usize].clone() else {
+        let Some(Design {
+            feature,
+            mut action,
+            angles,
+        }) = self.design.get(&key).cloned()
+        else {
             return Ok(false);
         };
         let mut lab = self.labels(key / 2, key % 2 == 1);
-        let mut ctx = self.context(&lab).0;
+        let mut ctx = self.context(&lab);
         let mut fired = Vec::new();
         let mut merges: [Option<Fv>; 2] = [None, None];
         let mut q = None;
@@ -1019,7 +1101,7 @@ impl<'k> Mesher<'k> {
             match new {
                 Action::Shift(a) => {
                     lab = self.labels_shifted(&lab);
-                    ctx = self.context(&lab).0;
+                    ctx = self.context(&lab);
                     action = *a;
                     merges = [None, None];
                 }
@@ -1068,8 +1150,8 @@ impl<'k> Mesher<'k> {
         self.trace.push(TraceStep {
             step,
             edge: [edge_nodes.0 as i64, edge_nodes.1 as i64],
-            angles,
-            feature,
+            angles: angle_map(&angles),
+            feature: feature.to_string(),
             action: action.to_string(),
             redesign: fired,
             element: ids.iter().map(|&x| x as i64).collect(),
@@ -1275,11 +1357,8 @@ impl<'k> Mesher<'k> {
             .iter()
             .map(|&f| deg_round(self.front.angle(f, &self.mesh.nodes)))
             .collect();
-        let angle_map: BTreeMap<String, f64> = angles
-            .iter()
-            .enumerate()
-            .map(|(i, a)| (format!("a{}", i + 1), *a))
-            .collect();
+        let names = ["a1", "a2", "a3", "a4", "a5", "a6"];
+        let angle_map = Angles::new(names.into_iter().zip(angles.iter().copied()).collect());
         if n == 4 {
             let q = [p[0], p[1], p[2], p[3]];
             if convex_ok(&q)
@@ -1373,7 +1452,7 @@ impl<'k> Mesher<'k> {
         new_nodes: &[DVec2],
         feature: &str,
         action: String,
-        angles: BTreeMap<String, f64>,
+        angles: Angles,
     ) {
         for &c in new_nodes {
             self.mesh.add_node(c, NodeKind::Interior);
@@ -1547,9 +1626,10 @@ impl<'k> Mesher<'k> {
         self.front.commit(&self.mesh.nodes);
         self.stats.fallback_splits += 1;
         let step = self.trace.len() + 1;
-        let mut angles = BTreeMap::new();
-        angles.insert("theta1".to_string(), deg_round(theta[i]));
-        angles.insert("theta2".to_string(), deg_round(theta[j]));
+        let angles = Angles::new(vec![
+            ("theta1", deg_round(theta[i])),
+            ("theta2", deg_round(theta[j])),
+        ]);
         self.trace.push(TraceStep {
             step,
             edge: [ids[i] as i64, ids[j] as i64],
@@ -1683,7 +1763,7 @@ impl<'k> Mesher<'k> {
             self.trace.push(TraceStep {
                 step,
                 edge: [q[0] as i64, q[1] as i64],
-                angles: BTreeMap::new(),
+                angles: Angles::default(),
                 feature: "stuck".into(),
                 action: "unmesh".into(),
                 redesign: vec![],
@@ -1832,7 +1912,7 @@ impl<'k> Mesher<'k> {
             let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
             self.stats.fallback_splits += 1;
             let layer = self.front.layer(fvs[0]) + 1;
-            self.close_with(l, qs, &[], "stuck", "ring".into(), BTreeMap::new());
+            self.close_with(l, qs, &[], "stuck", "ring".into(), Angles::default());
             self.front.begin();
             let nl = self.front.add_loop(&inner_ids, &vec![layer; n]);
             self.front.commit(&self.mesh.nodes);
@@ -1882,6 +1962,20 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
 }
 
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
+/// The context term of the KB's design question.
+fn context_text(n: &[f64; 7]) -> String {
+    format!(
+        "ctx({}, {}, {}, {}, {}, {}, {})",
+        n[0],
+        n[1],
+        n[2],
+        n[3],
+        n[4],
+        crate::kb::fmt_float(n[5]),
+        crate::kb::fmt_float(n[6])
+    )
+}
+
 fn corner_angle(a: DVec2, v: DVec2, b: DVec2) -> f64 {
     let (x, y) = (a - v, b - v);
     x.perp_dot(y).abs().atan2(x.dot(y)).to_degrees()

@@ -1,8 +1,37 @@
 //! The inference trace: one record per element made (and per fallback
 //! split), written as JSON Lines.
 
-use serde::Serialize;
-use std::collections::BTreeMap;
+use serde::ser::SerializeMap;
+use serde::{Serialize, Serializer};
+
+/// The angles a step saw, by name, kept in name order (a short list: a
+/// trace of a million steps keeps a million of them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Angles(Vec<(&'static str, f64)>);
+
+impl Angles {
+    /// The angles, put in name order.
+    pub fn new(mut named: Vec<(&'static str, f64)>) -> Angles {
+        named.sort_by(|a, b| a.0.cmp(b.0));
+        Angles(named)
+    }
+
+    /// Name and value, in name order.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        self.0.iter().copied()
+    }
+}
+
+impl Serialize for Angles {
+    /// As a JSON object, name to degrees.
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(self.0.len()))?;
+        for (k, v) in &self.0 {
+            m.serialize_entry(k, v)?;
+        }
+        m.end()
+    }
+}
 
 /// One step of the inference.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -14,7 +43,7 @@ pub struct TraceStep {
     pub edge: [i64; 2],
     /// Interior angles seen (degrees, rounded as the KB saw them):
     /// theta7, theta4, theta1, theta2, theta5; for final patterns a1..a6.
-    pub angles: BTreeMap<String, f64>,
+    pub angles: Angles,
     /// The feature the KB recognised (b1..b5, a user's feature, `final4`,
     /// `final6`, or `stuck` for a fallback split).
     pub feature: String,
