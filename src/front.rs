@@ -8,7 +8,7 @@
 //! leave a loop of odd length (no all-quad mesh exists for it) is undone.
 
 use glam::DVec2;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::geometry::interior_angle;
 

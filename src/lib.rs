@@ -111,6 +111,21 @@ pub struct MeshResult {
     pub quality: Quality,
     /// Engine use during the run.
     pub kb_stats: kb::KbStats,
+    /// Where the time went.
+    pub phases: Phases,
+}
+
+/// Wall time of each phase of a run (seconds).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Phases {
+    /// Discretising the boundary, cutting lines, the first front.
+    pub prepare: f64,
+    /// The recursion: features, designs, redesigns, fallbacks.
+    pub recursion: f64,
+    /// Laplace smoothing and the angle clean-up.
+    pub smoothing: f64,
+    /// The mesh's check and quality figures.
+    pub check: f64,
 }
 
 /// A meshing run over a domain, ready to step: the boundary discretised
@@ -187,11 +202,16 @@ pub fn mesh_domain(
         }
     }
     let kb_before = kb.stats;
+    let t0 = std::time::Instant::now();
     let mut m = start_mesher(domain, kb, opts.size)?;
-    let by_rules = m
-        .run(progress)
-        .map_err(Error::from)
-        .and_then(|()| finish(&mut m, opts, kb_before));
+    let prepare = t0.elapsed().as_secs_f64();
+    let by_rules = m.run(progress).map_err(Error::from).and_then(|()| {
+        let recursion = t0.elapsed().as_secs_f64() - prepare;
+        let mut r = finish(&mut m, opts, kb_before)?;
+        r.phases.prepare = prepare;
+        r.phases.recursion = recursion;
+        Ok(r)
+    });
     match by_rules {
         Ok(r) => Ok(r),
         // The rules and the loop subdivision gave up, or made a mesh that
@@ -285,10 +305,17 @@ fn finish_mesh(
             *n = remap(*n);
         }
     }
+    let t0 = std::time::Instant::now();
     smoothing::laplace(&mut mesh, opts.smoothing_passes);
     smoothing::untangle_angles(&mut mesh, 10);
+    let smoothing = t0.elapsed().as_secs_f64();
     check::check_mesh(&mesh, area)?;
     let quality = quality::measure(&mesh);
+    let phases = Phases {
+        smoothing,
+        check: t0.elapsed().as_secs_f64() - smoothing,
+        ..Default::default()
+    };
     let mut kb_stats = kb_after;
     kb_stats.engine_queries -= kb_before.engine_queries;
     kb_stats.cached_queries -= kb_before.cached_queries;
@@ -299,5 +326,6 @@ fn finish_mesh(
         stats,
         quality,
         kb_stats,
+        phases,
     })
 }

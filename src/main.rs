@@ -347,6 +347,16 @@ fn mesh_one(
             engine * 1e6 / quads,
             elapsed - engine
         );
+        let ph = &result.phases;
+        eprintln!(
+            "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",
+            domain.name,
+            ph.prepare,
+            ph.recursion,
+            ph.smoothing,
+            ph.check,
+            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check
+        );
     }
     Ok(())
 }

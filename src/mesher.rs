@@ -6,8 +6,9 @@
 //! split by a chord (the classic loop subdivision) and the recursion goes on.
 
 use glam::DVec2;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use crate::boundary::Discretised;
 use crate::design::{place, Action, Corner, Neighbourhood};
@@ -232,7 +233,7 @@ pub struct Mesher<'k> {
     /// Loops the design rules gave up on: only the fallback works on them
     /// (and on the loops split from them), so the rules cannot remesh a
     /// region they already failed in.
-    fallback_only: std::collections::HashSet<u32>,
+    fallback_only: HashSet<u32>,
     started: bool,
     /// The element on the left of each directed element edge, kept as
     /// elements come and go (taking back a layer asks it).
@@ -291,8 +292,8 @@ impl<'k> Mesher<'k> {
             set,
             version: Vec::new(),
             failed: Vec::new(),
-            design: HashMap::new(),
-            design_memo: HashMap::new(),
+            design: HashMap::default(),
+            design_memo: HashMap::default(),
             heap: BinaryHeap::new(),
             seq: 0,
             trace: Vec::new(),
@@ -304,7 +305,7 @@ impl<'k> Mesher<'k> {
             fallback_passes: 0,
             fallback_only: Default::default(),
             started: false,
-            edge_owner: HashMap::new(),
+            edge_owner: HashMap::default(),
             area,
         }
     }
@@ -651,9 +652,9 @@ impl<'k> Mesher<'k> {
     pub fn release_working_state(&mut self) {
         self.front = Front::default();
         self.heap = BinaryHeap::new();
-        self.design = HashMap::new();
-        self.design_memo = HashMap::new();
-        self.edge_owner = HashMap::new();
+        self.design = HashMap::default();
+        self.design_memo = HashMap::default();
+        self.edge_owner = HashMap::default();
         self.version = Vec::new();
         self.failed = Vec::new();
     }
@@ -742,7 +743,7 @@ impl<'k> Mesher<'k> {
         let f = crate::kb::fmt_float;
         let (mut nodes, mut edges, mut angles, mut ctxs) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut seen = std::collections::HashSet::new();
+        let mut seen = HashSet::default();
         for l in self.front.live_loops() {
             for fv in self.front.loop_fvs(l) {
                 let n = self.front.node(fv);

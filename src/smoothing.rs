@@ -29,6 +29,17 @@ fn badness(q: [DVec2; 4]) -> f64 {
             return f64::INFINITY;
         }
     }
+    // Most elements have every corner inside the window: |cos| <= cos 45
+    // at each, tested without trigonometry.
+    let inside = (0..4).all(|i| {
+        let a = q[(i + 1) % 4] - q[i];
+        let b = q[(i + 3) % 4] - q[i];
+        let d = a.dot(b);
+        2.0 * d * d <= a.length_squared() * b.length_squared()
+    });
+    if inside {
+        return 0.0;
+    }
     quad_angles(q)
         .iter()
         .map(|&a| (45.0 - a).max(a - 135.0).max(0.0))
@@ -39,11 +50,18 @@ fn badness(q: [DVec2; 4]) -> f64 {
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     let around = node_elements(mesh);
+    // A node none of whose elements changed since it was last looked at
+    // would come out the same: only the dirty ones are looked at (the
+    // sweeps give the same mesh as looking at every node).
+    let mut dirty = vec![true; mesh.nodes.len()];
     let mut kept = 0;
     for _ in 0..passes {
         kept = 0;
         for n in 0..mesh.nodes.len() {
-            if mesh.kinds[n] != NodeKind::Interior || around[n].is_empty() {
+            if !std::mem::take(&mut dirty[n])
+                || mesh.kinds[n] != NodeKind::Interior
+                || around[n].is_empty()
+            {
                 continue;
             }
             // Eq. 4: the two neighbours of n in each of its elements
@@ -55,7 +73,11 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
             }
             let target = sum / (2.0 * around[n].len() as f64);
             let old = mesh.nodes[n];
-            if (target - old).length_squared() == 0.0 {
+            // settled: a move under a thousandth of an element's edge is
+            // not worth the checks (and sweeps stop where all are settled)
+            let (q0, c0) = around[n][0];
+            let edge = mesh.nodes[mesh.quads[q0 as usize][(c0 as usize + 1) % 4] as usize] - old;
+            if (target - old).length_squared() <= 1e-6 * edge.length_squared() {
                 continue;
             }
             let before = around[n]
@@ -71,6 +93,13 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
                     .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;
+                    for &(q, _) in &around[n] {
+                        for m in mesh.quads[q as usize] {
+                            dirty[m as usize] = true;
+                        }
+                    }
+                    // after half a move the target is still ahead
+                    dirty[n] = t < 1.0;
                     break;
                 }
                 mesh.nodes[n] = old;
@@ -97,17 +126,41 @@ fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
     (bad, -min_sin)
 }
 
+/// True when every corner of the elements round a node has a sine above
+/// 0.8 (between 53 and 127 degrees, so convex and inside [45, 135]):
+/// the common case, told without trigonometry.
+fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
+    around.iter().all(|&(q, _)| {
+        let p = mesh.quad_points(q as usize);
+        (0..4).all(|i| {
+            let a = p[(i + 1) % 4] - p[i];
+            let b = p[(i + 3) % 4] - p[i];
+            let d = a.dot(b);
+            a.perp_dot(b) > 0.0 && d * d < 0.36 * a.length_squared() * b.length_squared()
+        })
+    })
+}
+
 /// Moves each free node next to an element with a corner outside
 /// [45, 135] to the place, found by a compass search, where the worst
 /// corner round it is best; `passes` sweeps. Never makes an element worse
 /// than it was, never inverts one. Returns the moves kept.
 pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     let around = node_elements(mesh);
+    // as in `laplace`: a node whose elements did not change since it was
+    // last searched would stay where it is
+    let mut dirty = vec![true; mesh.nodes.len()];
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
         for n in 0..mesh.nodes.len() {
-            if mesh.kinds[n] != NodeKind::Interior || around[n].is_empty() {
+            if !std::mem::take(&mut dirty[n])
+                || mesh.kinds[n] != NodeKind::Interior
+                || around[n].is_empty()
+            {
+                continue;
+            }
+            if corners_fine(mesh, &around[n]) {
                 continue;
             }
             let start = worst_around(mesh, &around[n]);
@@ -140,6 +193,11 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
             if best.1 != old {
                 moved += 1;
                 any = true;
+                for &(q, _) in &around[n] {
+                    for m in mesh.quads[q as usize] {
+                        dirty[m as usize] = true;
+                    }
+                }
             }
         }
         if !any {

@@ -527,3 +527,48 @@ fn features_lists_concave_corners_and_the_kb_actions() {
         .iter()
         .any(|e| e["feature"] == "b2" && e["action"].as_str().unwrap().starts_with("a2(")));
 }
+
+#[test]
+fn fronts_that_meet_at_a_fine_size_are_closed_by_the_rules() {
+    // At a uniform 0.08 the fronts from the outer loop and the holes meet
+    // in many places; the loops they leave must be closed by the rules and
+    // the loop subdivision, not by the whole-domain triangle fallback.
+    let out = tmp("plate-holes-fine.json");
+    let o = freemesh(&[
+        "mesh",
+        "../shared/bench/domains/plate-holes.json",
+        "--size",
+        "0.08",
+        "--max-size",
+        "0.08",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("triangle fallback"), "{}", stderr(&o));
+    let (nodes, quads) = read_json_mesh(&out);
+    let area = assert_valid(&nodes, &quads);
+    let holes = std::f64::consts::PI * (1.2f64.powi(2) + 1.0);
+    assert!((area - (60.0 - holes)).abs() < 0.05, "area {area}");
+    // elements of the requested size, not the fallback's halves
+    assert!((7000..9500).contains(&quads.len()), "{} quads", quads.len());
+}
+
+#[test]
+fn stats_say_where_the_time_goes() {
+    let out = tmp("stats.msh");
+    let o = freemesh(&[
+        "mesh",
+        "../shared/bench/domains/fig1-polygon.json",
+        "--stats",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("queries and"), "{err}");
+    assert!(err.contains("us of engine time per element"), "{err}");
+    for phase in ["prepare", "recursion", "smoothing", "check"] {
+        assert!(err.contains(&format!("{phase} ")), "no {phase} in {err}");
+    }
+}
