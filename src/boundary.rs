@@ -288,10 +288,23 @@ fn join_components(
                 }
             }
         }
-        cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        // In order of length; only the head is sorted unless the search
+        // runs past it (the order is total, so the same either way).
+        let order = |a: &(f64, u32, u32, usize, usize), b: &(f64, u32, u32, usize, usize)| {
+            a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+        };
+        let head = cands.len().min(8192);
+        if head < cands.len() {
+            cands.select_nth_unstable_by(head, order);
+        }
+        cands[..head].sort_by(order);
         let mut best: Option<(f64, u32, u32, usize)> = None;
         let mut checked = 0;
-        for &(len, v, u, ci, di) in &cands {
+        for i in 0..cands.len() {
+            if i == head {
+                cands[head..].sort_by(order);
+            }
+            let (len, v, u, ci, di) = cands[i];
             if used.contains(&u) || used.contains(&v) || len <= 0.0 {
                 continue;
             }

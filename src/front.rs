@@ -55,6 +55,8 @@ pub struct Front {
     /// Occurrences changed since the last call of `take_touched`.
     touched: Vec<Fv>,
     occurrences_of: HashMap<u32, Vec<Fv>>,
+    /// Grid entries written since the stale ones were last dropped.
+    indexed_since_compaction: usize,
 }
 
 impl Front {
@@ -125,6 +127,11 @@ impl Front {
     /// Keeps the changes since `begin`, indexing the new front edges.
     pub fn commit(&mut self, pos: &[DVec2]) {
         self.journal.clear();
+        // edges that left the front stay in the grid until dropped here;
+        // often enough that a search does not wade through them
+        if self.indexed_since_compaction > 4 * self.occ.len() / 8 + 4096 {
+            self.compact_grid();
+        }
         let touched = std::mem::take(&mut self.touched);
         for &fv in &touched {
             let o = self.occ[fv as usize];
@@ -187,6 +194,7 @@ impl Front {
                             .entry((c.0 + dx, c.1 + dy))
                             .or_default()
                             .push((fv, a, b));
+                        self.indexed_since_compaction += 1;
                     }
                 }
             }
@@ -195,6 +203,7 @@ impl Front {
         for x in x0..=x1 {
             for y in y0..=y1 {
                 self.grid.entry((x, y)).or_default().push((fv, a, b));
+                self.indexed_since_compaction += 1;
             }
         }
     }
@@ -241,6 +250,7 @@ impl Front {
 
     /// Drops stale grid entries (they are skipped anyway; this bounds memory).
     pub fn compact_grid(&mut self) {
+        self.indexed_since_compaction = 0;
         let occ = &self.occ;
         self.grid.retain(|_, v| {
             v.retain(|&(fv, a, b)| {

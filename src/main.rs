@@ -152,7 +152,7 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     if domains.len() == 1 {
         let outputs: Vec<(PathBuf, Format)> = args.outputs.iter().cloned().zip(formats).collect();
         let mut kb = load_kb(&args.kb)?;
-        return mesh_one(
+        let done = mesh_one(
             &domains[0],
             &outputs,
             args.trace.as_deref(),
@@ -160,6 +160,10 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
             &args,
             true,
         );
+        // The engine's heap is large after a big run and the process ends
+        // here: tearing it down piece by piece would only cost time.
+        std::mem::forget(kb);
+        return done;
     }
     // Several domains: every output must be told apart by {stem}.
     for p in args.outputs.iter().chain(args.trace.iter()) {

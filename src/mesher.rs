@@ -209,6 +209,10 @@ pub struct Mesher<'k> {
     set: Settings,
     version: Vec<u32>,
     failed: Vec<u32>,
+    /// The angle at each occurrence as this refresh measured it (the
+    /// refresh's stamp, degrees): a refresh asks each up to ten times.
+    angle_seen: Vec<(u64, f64)>,
+    refresh_stamp: u64,
     /// The KB's design for each queued oriented edge of the live front.
     design: HashMap<u32, Design>,
     /// The KB's answers by context (its seven numbers, as the query has
@@ -291,6 +295,8 @@ impl<'k> Mesher<'k> {
             front,
             set,
             version: Vec::new(),
+            angle_seen: Vec::new(),
+            refresh_stamp: 0,
             failed: Vec::new(),
             design: HashMap::default(),
             design_memo: HashMap::default(),
@@ -362,17 +368,33 @@ impl<'k> Mesher<'k> {
     fn context_numbers(&self, lab: &Labels) -> [f64; 7] {
         let pos = &self.mesh.nodes;
         let t = |fv| deg_round(self.front.angle(fv, pos));
+        self.context_numbers_given(lab, [t(lab.n7), t(lab.n4), t(lab.n1), t(lab.n2), t(lab.n5)])
+    }
+
+    /// `context_numbers` with the five angles given.
+    fn context_numbers_given(&self, lab: &Labels, t: [f64; 5]) -> [f64; 7] {
         let l1 = (self.pos(lab.n2) - self.pos(lab.n1)).length().max(1e-300);
         let r = |x: f64| ((x / l1) * 100.0).round() / 100.0;
         [
-            t(lab.n7),
-            t(lab.n4),
-            t(lab.n1),
-            t(lab.n2),
-            t(lab.n5),
+            t[0],
+            t[1],
+            t[2],
+            t[3],
+            t[4],
             r((self.pos(lab.n1) - self.pos(lab.n4)).length()),
             r((self.pos(lab.n5) - self.pos(lab.n2)).length()),
         ]
+    }
+
+    /// The angle at an occurrence (whole degrees), measured once a refresh.
+    fn angle_this_refresh(&mut self, fv: Fv) -> f64 {
+        let seen = self.angle_seen[fv as usize];
+        if seen.0 == self.refresh_stamp {
+            return seen.1;
+        }
+        let a = deg_round(self.front.angle(fv, &self.mesh.nodes));
+        self.angle_seen[fv as usize] = (self.refresh_stamp, a);
+        a
     }
 
     /// The context term of an edge, as the KB sees it.
@@ -385,6 +407,7 @@ impl<'k> Mesher<'k> {
         if self.version.len() < n {
             self.version.resize(n, 0);
             self.failed.resize(n, NOT_FAILED);
+            self.angle_seen.resize(n / 2, (0, 0.0));
         }
     }
 
@@ -402,7 +425,13 @@ impl<'k> Mesher<'k> {
             return Ok(());
         }
         let lab = self.labels(fv, mirrored);
-        let nums = self.context_numbers(&lab);
+        let mut nums = self.context_numbers_given(&lab, [0.0; 5]);
+        for (i, n) in [lab.n7, lab.n4, lab.n1, lab.n2, lab.n5]
+            .into_iter()
+            .enumerate()
+        {
+            nums[i] = self.angle_this_refresh(n);
+        }
         let Some((feature, action)) = self.design_for(&nums)? else {
             return Ok(());
         };
@@ -469,6 +498,7 @@ impl<'k> Mesher<'k> {
     /// occurrence (three steps either way).
     fn refresh(&mut self, touched: &[Fv]) -> Result<(), MeshError> {
         self.ensure_capacity();
+        self.refresh_stamp += 1;
         let mut keys = Vec::new();
         for &t in touched {
             if !self.front.alive(t) {
@@ -1070,7 +1100,6 @@ impl<'k> Mesher<'k> {
             return Ok(false);
         };
         let mut lab = self.labels(key / 2, key % 2 == 1);
-        let mut ctx = self.context(&lab);
         let mut fired = Vec::new();
         let mut merges: [Option<Fv>; 2] = [None, None];
         let mut q = None;
@@ -1083,6 +1112,7 @@ impl<'k> Mesher<'k> {
             if round == self.set.rounds || rel.is_empty() {
                 break;
             }
+            let ctx = self.context(&lab);
             let query = format!("fm_redesign({ctx}, {action}, [{}], R).", rel.join(", "));
             let Some(ans) = self.kb.ask_bounded(&query, &ctx)? else {
                 break;
@@ -1102,7 +1132,6 @@ impl<'k> Mesher<'k> {
             match new {
                 Action::Shift(a) => {
                     lab = self.labels_shifted(&lab);
-                    ctx = self.context(&lab);
                     action = *a;
                     merges = [None, None];
                 }
