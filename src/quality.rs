@@ -44,7 +44,7 @@ pub fn scaled_jacobian(q: [DVec2; 4]) -> f64 {
 
 /// Aspect ratio and taper of a quad (both >= 1).
 pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
-    let e: Vec<f64> = (0..4).map(|i| (q[(i + 1) % 4] - q[i]).length()).collect();
+    let e: [f64; 4] = std::array::from_fn(|i| (q[(i + 1) % 4] - q[i]).length());
     let ratio = |a: f64, b: f64| {
         if a.min(b) <= 0.0 {
             f64::INFINITY

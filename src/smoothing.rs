@@ -207,6 +207,156 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     moved
 }
 
+/// For each element, the elements across its four edges.
+fn element_neighbours(mesh: &Mesh) -> Vec<[Option<u32>; 4]> {
+    let mut by_edge: rustc_hash::FxHashMap<(u32, u32), u32> = Default::default();
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for i in 0..4 {
+            by_edge.insert((q[i], q[(i + 1) % 4]), qi as u32);
+        }
+    }
+    mesh.quads
+        .iter()
+        .map(|q| std::array::from_fn(|i| by_edge.get(&(q[(i + 1) % 4], q[i])).copied()))
+        .collect()
+}
+
+/// How far an element is past the paper's bounds on size and shape, as a
+/// share of each bound: its size against each neighbour's (factor 2, the
+/// square root of the area ratio), its taper and aspect ratio (10). At
+/// most 1 when within them. `area` gives each element's area.
+fn size_shape_excess(
+    mesh: &Mesh,
+    q: u32,
+    neighbours: &[Option<u32>; 4],
+    area: &dyn Fn(u32) -> f64,
+) -> f64 {
+    let (aspect, taper) = crate::quality::aspect_taper(mesh.quad_points(q as usize));
+    let mut worst = (aspect / 10.0).max(taper / 10.0);
+    let mine = area(q).max(1e-300);
+    for f in neighbours.iter().flatten() {
+        let other = area(*f).max(1e-300);
+        worst = worst.max((mine / other).max(other / mine).sqrt() / 2.0);
+    }
+    worst
+}
+
+/// Evens out sizes and shapes where they break the paper's bounds: each
+/// free node round an element past them moves, by a compass search, to
+/// where the worst excess round it is least, without a corner round it
+/// leaving [45, 135] further or getting much sharper than it was.
+/// `passes` sweeps; returns the moves kept.
+pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
+    let around = node_elements(mesh);
+    let neighbours = element_neighbours(mesh);
+    let quad_area =
+        |mesh: &Mesh, q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
+    let mut area: Vec<f64> = (0..mesh.quads.len() as u32)
+        .map(|q| quad_area(mesh, q))
+        .collect();
+    // the excess of node n's elements (measured afresh), against their
+    // neighbours too: all that moving n changes
+    let excess_round = |mesh: &Mesh, area: &[f64], n: usize| -> f64 {
+        let mine: Vec<(u32, f64)> = around[n]
+            .iter()
+            .map(|&(q, _)| (q, quad_area(mesh, q)))
+            .collect();
+        let area_of = |q: u32| {
+            mine.iter()
+                .find(|x| x.0 == q)
+                .map_or(area[q as usize], |x| x.1)
+        };
+        let mut worst: f64 = 0.0;
+        for &(q, _) in &around[n] {
+            worst = worst.max(size_shape_excess(
+                mesh,
+                q,
+                &neighbours[q as usize],
+                &area_of,
+            ));
+        }
+        worst
+    };
+    let mut dirty = vec![true; mesh.nodes.len()];
+    let mut moved = 0;
+    for _ in 0..passes {
+        let mut any = false;
+        for n in 0..mesh.nodes.len() {
+            if !std::mem::take(&mut dirty[n])
+                || mesh.kinds[n] != NodeKind::Interior
+                || around[n].is_empty()
+            {
+                continue;
+            }
+            let own = excess_round(mesh, &area, n);
+            // what moving n cannot change: the shapes of the elements
+            // next to n's, and their sizes against elements not n's
+            let fixed = around[n]
+                .iter()
+                .flat_map(|&(q, _)| neighbours[q as usize].iter().flatten().copied())
+                .filter(|f| !around[n].iter().any(|&(q, _)| q == *f))
+                .map(|f| {
+                    let others = neighbours[f as usize]
+                        .map(|g| g.filter(|g| !around[n].iter().any(|&(q, _)| q == *g)));
+                    size_shape_excess(mesh, f, &others, &|q| area[q as usize])
+                })
+                .fold(0.0, f64::max);
+            let start_excess = own.max(fixed);
+            if start_excess <= 0.95 {
+                continue;
+            }
+            let start = worst_around(mesh, &around[n]);
+            let old = mesh.nodes[n];
+            let h = around[n]
+                .iter()
+                .map(|&(q, c)| {
+                    let quad = mesh.quads[q as usize];
+                    (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - old).length()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let min_sin = (-start.1).min(0.6);
+            let mut best = (start_excess, old);
+            let mut step = 0.25 * h;
+            for _ in 0..6 {
+                let centre = best.1;
+                for k in 0..8 {
+                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
+                    mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
+                    let w = worst_around(mesh, &around[n]);
+                    if w.0 > start.0 + 1e-9 || -w.1 < min_sin {
+                        continue;
+                    }
+                    let e = excess_round(mesh, &area, n).max(fixed);
+                    if e < best.0 - 1e-6 {
+                        best = (e, mesh.nodes[n]);
+                    }
+                }
+                step *= 0.5;
+            }
+            mesh.nodes[n] = best.1;
+            if best.1 != old {
+                moved += 1;
+                any = true;
+                // the neighbours' size ratios changed with these
+                for &(q, _) in &around[n] {
+                    area[q as usize] = quad_area(mesh, q);
+                    let touched =
+                        std::iter::once(q).chain(neighbours[q as usize].iter().flatten().copied());
+                    for f in touched {
+                        for m in mesh.quads[f as usize] {
+                            dirty[m as usize] = true;
+                        }
+                    }
+                }
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    moved
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -245,6 +395,28 @@ mod tests {
             .flat_map(|q| quad_angles(m.quad_points(q)))
             .fold(0.0, f64::max);
         assert!(worst <= 135.0 + 1e-6, "worst corner {worst}");
+    }
+
+    #[test]
+    fn a_size_jump_past_two_is_evened_out() {
+        let mut m = two_by_two_block();
+        m.nodes[4] = DVec2::new(0.2, 0.2); // areas 0.2 and 1.8: a jump of 3
+        let jump = |m: &Mesh| {
+            let a: Vec<f64> = (0..4)
+                .map(|q| crate::geometry::polygon_area(&m.quad_points(q)).abs())
+                .collect();
+            (a[3] / a[0]).sqrt()
+        };
+        let worst_corner = |m: &Mesh| {
+            (0..4)
+                .map(|q| badness(m.quad_points(q)))
+                .fold(0.0, f64::max)
+        };
+        let corner_before = worst_corner(&m);
+        assert!(jump(&m) > 2.5);
+        assert!(even_out_sizes(&mut m, 5) > 0);
+        assert!(jump(&m) <= 2.0 * 0.95 + 1e-9, "jump {}", jump(&m));
+        assert!(worst_corner(&m) <= corner_before + 1e-9);
     }
 
     #[test]
