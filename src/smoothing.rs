@@ -207,6 +207,19 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     moved
 }
 
+/// How many corners of the elements round a node are outside [45, 135].
+fn corners_outside(mesh: &Mesh, around: &[(u32, u8)]) -> usize {
+    around
+        .iter()
+        .map(|&(q, _)| {
+            quad_angles(mesh.quad_points(q as usize))
+                .iter()
+                .filter(|a| !(45.0..=135.0).contains(*a))
+                .count()
+        })
+        .sum()
+}
+
 /// For each element, the elements across its four edges.
 fn element_neighbours(mesh: &Mesh) -> Vec<[Option<u32>; 4]> {
     let mut by_edge: rustc_hash::FxHashMap<(u32, u32), u32> = Default::default();
@@ -257,14 +270,12 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
     // the excess of node n's elements (measured afresh), against their
     // neighbours too: all that moving n changes
     let excess_round = |mesh: &Mesh, area: &[f64], n: usize| -> f64 {
-        let mine: Vec<(u32, f64)> = around[n]
-            .iter()
-            .map(|&(q, _)| (q, quad_area(mesh, q)))
-            .collect();
         let area_of = |q: u32| {
-            mine.iter()
-                .find(|x| x.0 == q)
-                .map_or(area[q as usize], |x| x.1)
+            if around[n].iter().any(|x| x.0 == q) {
+                quad_area(mesh, q)
+            } else {
+                area[q as usize]
+            }
         };
         let mut worst: f64 = 0.0;
         for &(q, _) in &around[n] {
@@ -289,6 +300,9 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                 continue;
             }
             let own = excess_round(mesh, &area, n);
+            if own <= 0.95 {
+                continue; // moving n could only make its elements worse
+            }
             // what moving n cannot change: the shapes of the elements
             // next to n's, and their sizes against elements not n's
             let fixed = around[n]
@@ -306,6 +320,7 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                 continue;
             }
             let start = worst_around(mesh, &around[n]);
+            let start_outside = corners_outside(mesh, &around[n]);
             let old = mesh.nodes[n];
             let h = around[n]
                 .iter()
@@ -323,7 +338,10 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                     let a = k as f64 * std::f64::consts::FRAC_PI_4;
                     mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
                     let w = worst_around(mesh, &around[n]);
-                    if w.0 > start.0 + 1e-9 || -w.1 < min_sin {
+                    if w.0 > start.0 + 1e-9
+                        || -w.1 < min_sin
+                        || corners_outside(mesh, &around[n]) > start_outside
+                    {
                         continue;
                     }
                     let e = excess_round(mesh, &area, n).max(fixed);
