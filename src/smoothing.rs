@@ -168,29 +168,16 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
                 continue; // every corner round it is fine
             }
             let old = mesh.nodes[n];
-            let h = around[n]
-                .iter()
-                .map(|&(q, c)| {
-                    let quad = mesh.quads[q as usize];
-                    (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - old).length()
-                })
-                .fold(f64::INFINITY, f64::min);
-            let mut best = (start, old);
-            let mut step = 0.25 * h;
-            for _ in 0..6 {
-                let centre = best.1;
-                for k in 0..8 {
-                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
-                    mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
-                    let w = worst_around(mesh, &around[n]);
-                    if w < best.0 {
-                        best = (w, mesh.nodes[n]);
-                    }
-                }
-                step *= 0.5;
-            }
-            mesh.nodes[n] = best.1;
-            if best.1 != old {
+            let best = compass_search(
+                mesh,
+                n,
+                &around[n],
+                start,
+                |m| Some(worst_around(m, &around[n])),
+                |w, best| w < best,
+            );
+            mesh.nodes[n] = best;
+            if best != old {
                 moved += 1;
                 any = true;
                 for &(q, _) in &around[n] {
@@ -205,6 +192,46 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
         }
     }
     moved
+}
+
+/// The best place for node `n` by a compass search: the eight directions
+/// round the best place so far, six times over, the step halving from a
+/// quarter of the shortest edge at the node. `score` judges the node where
+/// it is put (None: not allowed there); a place is taken when `better`
+/// than the best so far. The node is left where it was.
+fn compass_search<S: Copy>(
+    mesh: &mut Mesh,
+    n: usize,
+    around: &[(u32, u8)],
+    start: S,
+    mut score: impl FnMut(&Mesh) -> Option<S>,
+    better: impl Fn(S, S) -> bool,
+) -> DVec2 {
+    let old = mesh.nodes[n];
+    let h = around
+        .iter()
+        .map(|&(q, c)| {
+            let quad = mesh.quads[q as usize];
+            (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - old).length()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let mut best = (start, old);
+    let mut step = 0.25 * h;
+    for _ in 0..6 {
+        let centre = best.1;
+        for k in 0..8 {
+            let a = k as f64 * std::f64::consts::FRAC_PI_4;
+            mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
+            if let Some(w) = score(mesh) {
+                if better(w, best.0) {
+                    best = (w, mesh.nodes[n]);
+                }
+            }
+        }
+        step *= 0.5;
+    }
+    mesh.nodes[n] = old;
+    best.1
 }
 
 /// How many corners of the elements round a node are outside [45, 135].
@@ -322,37 +349,23 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
             let start = worst_around(mesh, &around[n]);
             let start_outside = corners_outside(mesh, &around[n]);
             let old = mesh.nodes[n];
-            let h = around[n]
-                .iter()
-                .map(|&(q, c)| {
-                    let quad = mesh.quads[q as usize];
-                    (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - old).length()
-                })
-                .fold(f64::INFINITY, f64::min);
             let min_sin = (-start.1).min(0.6);
-            let mut best = (start_excess, old);
-            let mut step = 0.25 * h;
-            for _ in 0..6 {
-                let centre = best.1;
-                for k in 0..8 {
-                    let a = k as f64 * std::f64::consts::FRAC_PI_4;
-                    mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
-                    let w = worst_around(mesh, &around[n]);
-                    if w.0 > start.0 + 1e-9
-                        || -w.1 < min_sin
-                        || corners_outside(mesh, &around[n]) > start_outside
-                    {
-                        continue;
-                    }
-                    let e = excess_round(mesh, &area, n).max(fixed);
-                    if e < best.0 - 1e-6 {
-                        best = (e, mesh.nodes[n]);
-                    }
-                }
-                step *= 0.5;
-            }
-            mesh.nodes[n] = best.1;
-            if best.1 != old {
+            let best = compass_search(
+                mesh,
+                n,
+                &around[n],
+                start_excess,
+                |m| {
+                    let w = worst_around(m, &around[n]);
+                    let allowed = w.0 <= start.0 + 1e-9
+                        && -w.1 >= min_sin
+                        && corners_outside(m, &around[n]) <= start_outside;
+                    allowed.then(|| excess_round(m, &area, n).max(fixed))
+                },
+                |e, best| e < best - 1e-6,
+            );
+            mesh.nodes[n] = best;
+            if best != old {
                 moved += 1;
                 any = true;
                 // the neighbours' size ratios changed with these
