@@ -1865,16 +1865,11 @@ impl<'k> Mesher<'k> {
         // judged by the smallest angle of the ring's elements.
         // a quarter of the rules' minimum: a ring may be finer than the
         // elements round it, but rings in rings cannot shrink for ever
-        let min_edge = self.min_edge / 4.0;
-        let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
-            let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
-            if rmax <= 0.0 {
-                return None;
-            }
-            let inner: Vec<DVec2> = p
-                .iter()
-                .map(|&x| c + (x - c).normalize_or_zero() * rmax * t)
-                .collect();
+        // (a loop of four gets a ring round a convex four, closed at once:
+        // no nesting, so its ring may go finer)
+        let min_edge = self.min_edge / if n == 4 { 32.0 } else { 4.0 };
+        // the ring's elements, judged by their smallest angle
+        let judge = |inner: Vec<DVec2>| -> Option<(f64, Vec<DVec2>)> {
             if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
                 return None;
             }
@@ -1901,6 +1896,33 @@ impl<'k> Mesher<'k> {
             }
             Some((worst, inner))
         };
+        // inner nodes on a circle round a centre c
+        let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
+            let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
+            if rmax <= 0.0 {
+                return None;
+            }
+            judge(
+                p.iter()
+                    .map(|&x| c + (x - c).normalize_or_zero() * rmax * t)
+                    .collect(),
+            )
+        };
+        // or each inner node in from its loop node along the bisector of
+        // the loop's corner there: a loop with a reflex or flat corner
+        // (no centre sees it well) gets its ring this way
+        let bisector_ring = |t: f64| -> Option<(f64, Vec<DVec2>)> {
+            judge(
+                (0..n)
+                    .map(|i| {
+                        let (prev, v, next) = (p[(i + n - 1) % n], p[i], p[(i + 1) % n]);
+                        let half = crate::geometry::interior_angle(prev, v, next) / 2.0;
+                        let dir = DVec2::from_angle(half).rotate((next - v).normalize_or_zero());
+                        v + dir * t * (next - v).length().min((prev - v).length())
+                    })
+                    .collect(),
+            )
+        };
         let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
         let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
         let mut best: Option<(f64, Vec<DVec2>)> = None;
@@ -1915,6 +1937,13 @@ impl<'k> Mesher<'k> {
                             best = Some(r);
                         }
                     }
+                }
+            }
+        }
+        for t in [0.2, 0.35, 0.5] {
+            if let Some(r) = bisector_ring(t) {
+                if best.as_ref().is_none_or(|b| r.0 > b.0) {
+                    best = Some(r);
                 }
             }
         }
