@@ -14,8 +14,8 @@ use crate::boundary::Discretised;
 use crate::design::{place, Action, Corner, Neighbourhood};
 use crate::front::{Front, Fv};
 use crate::geometry::{
-    interior_angle, orient2d, point_segment_distances, quad_angles, segments_intersect,
-    SegmentRelation,
+    interior_angle, orient2d, point_segment_distances, polygon_area, quad_angles,
+    segments_intersect, SegmentRelation,
 };
 use crate::kb::{term_text, KbError, KnowledgeBase};
 use crate::mesh::{Mesh, NodeKind};
@@ -648,7 +648,7 @@ impl<'k> Mesher<'k> {
         if self.fallback_passes <= MAX_FALLBACK_PASSES {
             let mut open = Vec::new();
             for l in loops {
-                let (zipped, rest) = self.zip_slits(l);
+                let (zipped, rest) = self.zip_slits(l, true);
                 changed |= zipped;
                 open.extend(rest);
             }
@@ -1691,9 +1691,11 @@ impl<'k> Mesher<'k> {
     }
 
     /// Zips the slits of loop `l`: a front edge met both ways, a->b->a,
-    /// that bounds nothing (see `slit_is_inside`). Returns whether a slit
-    /// was zipped, and the loops left.
-    fn zip_slits(&mut self, l: u32) -> (bool, Vec<u32>) {
+    /// that bounds nothing (see `slit_is_inside`); with `pinches` (a loop
+    /// the fallback works on, not one just grown by taking elements back)
+    /// also parts it where it touches itself (see `pinch_to_split`).
+    /// Returns whether it changed anything, and the loops left.
+    fn zip_slits(&mut self, l: u32, pinches: bool) -> (bool, Vec<u32>) {
         let mut zipped = false;
         let mut open = vec![l];
         let mut done = Vec::new();
@@ -1710,9 +1712,51 @@ impl<'k> Mesher<'k> {
                     continue 'loops;
                 }
             }
+            if let Some((u, v)) = pinches.then(|| self.pinch_to_split(l)).flatten() {
+                self.front.begin();
+                let rest = self.front.split_pinch(u, v);
+                self.front.commit(&self.mesh.nodes);
+                zipped = true;
+                open.extend(rest);
+                continue 'loops;
+            }
             done.push(l);
         }
         (zipped, done)
+    }
+
+    /// Two occurrences of one node on loop `l` (the loop touches itself
+    /// there) that part it into two loops of even length, each bounding
+    /// its own region (positive area, neither inside the other): the loop
+    /// is two loops already.
+    fn pinch_to_split(&self, l: u32) -> Option<(Fv, Fv)> {
+        let fvs = self.front.loop_fvs(l);
+        let at = |i: usize| self.mesh.nodes[self.front.node(fvs[i % fvs.len()]) as usize];
+        let index: HashMap<Fv, usize> = fvs.iter().enumerate().map(|(i, &f)| (f, i)).collect();
+        for (i, &u) in fvs.iter().enumerate() {
+            for v in self.front.occurrences(self.front.node(u)) {
+                let Some(&j) = index.get(&v) else { continue };
+                if j <= i || (j - i) % 2 == 1 {
+                    continue;
+                }
+                let first: Vec<DVec2> = (i..j).map(at).collect();
+                let second: Vec<DVec2> = (j..i + fvs.len()).map(at).collect();
+                // side by side, not one inside the other
+                let apart = |a: &[DVec2], b: &[DVec2]| {
+                    a[1..]
+                        .iter()
+                        .all(|&x| !crate::geometry::point_in_polygon(x, b))
+                };
+                if polygon_area(&first) > 0.0
+                    && polygon_area(&second) > 0.0
+                    && apart(&first, &second)
+                    && apart(&second, &first)
+                {
+                    return Some((u, v));
+                }
+            }
+        }
+        None
     }
 
     /// Takes back every element that shares an edge with loop `l`; the
@@ -1802,7 +1846,7 @@ impl<'k> Mesher<'k> {
         }
         // edges between two elements taken back bound nothing now
         for t in self.front.touched_loops() {
-            self.zip_slits(t);
+            self.zip_slits(t, false);
         }
         let touched = self.front.take_touched();
         for &t in &touched {
@@ -2071,6 +2115,40 @@ fn wedge_split(v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_loop_touching_itself_is_parted_at_the_node() {
+        // two unit squares meeting at the corner (1, 1): one loop through
+        // that node twice; each square is one element
+        let pts = [
+            (0., 0.),
+            (1., 0.),
+            (1., 1.),
+            (2., 1.),
+            (2., 2.),
+            (1., 2.),
+            (0., 1.),
+        ];
+        let mut mesh = Mesh::default();
+        for (x, y) in pts {
+            mesh.add_node(DVec2::new(x, y), NodeKind::Boundary);
+        }
+        let disc = Discretised {
+            mesh,
+            front_loop: vec![0, 1, 2, 3, 4, 5, 2, 6],
+            cuts: vec![],
+        };
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let mut m = Mesher::new(&mut kb, disc, 1.0, 2.0).unwrap();
+        m.run(&mut |_| {}).unwrap();
+        let mut quads: Vec<[u32; 4]> = m.mesh.quads.clone();
+        for q in &mut quads {
+            let k = (0..4).min_by_key(|&i| q[i]).unwrap();
+            q.rotate_left(k);
+        }
+        quads.sort();
+        assert_eq!(quads, vec![[0, 1, 2, 6], [2, 3, 4, 5]]);
+    }
 
     #[test]
     fn z_shaped_six_loop_splits_by_a_chord() {
