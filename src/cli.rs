@@ -25,6 +25,20 @@ pub enum Command {
     /// With piped input it reads one query or command a line and prints
     /// no prompts, so a session can be scripted.
     Repl(ReplArgs),
+    /// Measure a quad mesh, ours or another program's (.msh, ASCII 4.1 or
+    /// 2.2, or freemesh's .json): angle range, share in [45, 135], scaled
+    /// Jacobian, aspect ratio, taper, size jump, and a histogram of angles.
+    Quality(QualityArgs),
+}
+
+/// Arguments of `freemesh quality`.
+#[derive(Debug, clap::Args)]
+pub struct QualityArgs {
+    /// The mesh file.
+    pub mesh: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `freemesh repl`.

@@ -26,6 +26,7 @@ pub mod front;
 pub mod geometry;
 pub mod kb;
 pub mod mesh;
+pub mod mesh_reader;
 pub mod mesher;
 pub mod output;
 pub mod quality;

@@ -38,6 +38,7 @@ fn run(cli: cli::Cli) -> Result<()> {
         cli::Command::Mesh(args) => mesh(args),
         cli::Command::Features(args) => features(args),
         cli::Command::Repl(args) => repl(args),
+        cli::Command::Quality(args) => quality(args),
     }
 }
 
@@ -102,6 +103,48 @@ fn load_kb(files: &[PathBuf]) -> Result<KnowledgeBase> {
         kb.consult_file(&f.to_string_lossy())?;
     }
     Ok(kb)
+}
+
+fn quality(args: cli::QualityArgs) -> Result<()> {
+    use std::io::Write;
+    let read = freemesh::mesh_reader::read_mesh(&args.mesh.to_string_lossy())?;
+    let q = freemesh::quality::measure(&read.mesh);
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        let v = serde_json::json!({
+            "mesh": args.mesh,
+            "quality": q,
+            "other_faces": read.other_faces,
+            "angle_bins_10deg": freemesh::quality::angle_bins(&read.mesh),
+        });
+        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "{}: {} quads, {} other faces",
+        args.mesh.display(),
+        q.quads,
+        read.other_faces
+    )?;
+    writeln!(
+        out,
+        "angles {:.1}..{:.1} deg, {:.1}% of quads in [45, 135]",
+        q.min_angle, q.max_angle, q.pct_45_135
+    )?;
+    writeln!(
+        out,
+        "scaled Jacobian: smallest {:.3}",
+        q.min_scaled_jacobian
+    )?;
+    writeln!(
+        out,
+        "aspect ratio: largest {:.2}; taper: largest {:.2}; size jump between neighbours: largest {:.2}",
+        q.max_aspect, q.max_taper, q.max_size_jump
+    )?;
+    writeln!(out, "corner angles (deg):")?;
+    write!(out, "{}", freemesh::quality::angle_histogram(&read.mesh))?;
+    Ok(())
 }
 
 fn features(args: cli::FeaturesArgs) -> Result<()> {

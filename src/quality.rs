@@ -110,14 +110,20 @@ pub fn measure(mesh: &Mesh) -> Quality {
     q
 }
 
-/// A text histogram of corner angles in 10-degree bins.
-pub fn angle_histogram(mesh: &Mesh) -> String {
+/// How many corners fall in each 10-degree bin, 0-10 to 170-180.
+pub fn angle_bins(mesh: &Mesh) -> [usize; 18] {
     let mut bins = [0usize; 18];
     for i in 0..mesh.quads.len() {
         for a in quad_angles(mesh.quad_points(i)) {
             bins[((a / 10.0) as usize).min(17)] += 1;
         }
     }
+    bins
+}
+
+/// A text histogram of corner angles in 10-degree bins.
+pub fn angle_histogram(mesh: &Mesh) -> String {
+    let bins = angle_bins(mesh);
     let max = *bins.iter().max().unwrap_or(&1).max(&1);
     let mut s = String::new();
     for (i, &b) in bins.iter().enumerate() {

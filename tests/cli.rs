@@ -572,3 +572,62 @@ fn stats_say_where_the_time_goes() {
         assert!(err.contains(&format!("{phase} ")), "no {phase} in {err}");
     }
 }
+
+#[test]
+fn quality_measures_our_mesh_and_another_programs() {
+    let ours = tmp("quality-ours.msh");
+    let o = freemesh(&[
+        "mesh",
+        "../shared/bench/domains/fig1-polygon.json",
+        "-o",
+        ours.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = stderr(&o);
+    let q = freemesh(&["quality", ours.to_str().unwrap()]);
+    assert!(q.status.success(), "{}", stderr(&q));
+    let text = String::from_utf8_lossy(&q.stdout).into_owned();
+    // the same count as the mesh command's summary line
+    let quads = summary
+        .split(" quads")
+        .next()
+        .unwrap()
+        .rsplit(' ')
+        .next()
+        .unwrap();
+    assert!(
+        text.contains(&format!("{quads} quads")),
+        "{text}\n{summary}"
+    );
+    for what in ["in [45, 135]", "scaled Jacobian", "taper", "corner angles"] {
+        assert!(text.contains(what), "no {what} in {text}");
+    }
+    // a unit square and a triangle as Gmsh writes MSH 2.2
+    let theirs = tmp("quality-theirs.msh");
+    std::fs::write(
+        &theirs,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 0 0\n$EndNodes\n$Elements\n2\n1 3 2 0 1 1 2 3 4\n2 2 2 0 1 2 5 3\n$EndElements\n",
+    )
+    .unwrap();
+    let q = freemesh(&["quality", theirs.to_str().unwrap(), "--json"]);
+    assert!(q.status.success(), "{}", stderr(&q));
+    let v: serde_json::Value = serde_json::from_slice(&q.stdout).unwrap();
+    assert_eq!(v["quality"]["quads"], 1);
+    assert_eq!(v["other_faces"], 1);
+    assert_eq!(v["quality"]["min_angle"].as_f64().unwrap().round(), 90.0);
+    assert_eq!(v["angle_bins_10deg"][9], 4);
+}
+
+#[test]
+fn quality_of_a_file_that_is_no_mesh_is_one_error_line() {
+    let bad = tmp("not-a-mesh.msh");
+    std::fs::write(&bad, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1").unwrap();
+    let q = freemesh(&["quality", bad.to_str().unwrap()]);
+    assert_eq!(q.status.code(), Some(1));
+    let err = stderr(&q);
+    assert!(
+        err.starts_with("error:") && err.contains("not-a-mesh.msh"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}
