@@ -250,7 +250,12 @@ pub fn mesh_domain(
             }];
             let kb_stats = m.kb().stats;
             let area = boundary_area(&mesh, 1 + domain.holes.len() as u32);
-            finish_mesh(mesh, trace, stats, area, opts, kb_before, kb_stats)
+            // the rules' attempt and the fallback count as the recursion
+            let recursion = t0.elapsed().as_secs_f64() - prepare;
+            let mut r = finish_mesh(mesh, trace, stats, area, opts, kb_before, kb_stats)?;
+            r.phases.prepare = prepare;
+            r.phases.recursion = recursion;
+            Ok(r)
         }
         Err(e) => Err(e.into()),
     }

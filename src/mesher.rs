@@ -248,9 +248,10 @@ pub struct Mesher<'k> {
 
 const NOT_FAILED: u32 = u32::MAX;
 /// Passes of the loop subdivision before the run gives up (and the last
-/// resort, triangle_fallback.rs, meshes the domain). The public domains
-/// need at most 19; a run past 100 is going round in circles, and every
-/// pass costs time in proportion to the mesh.
+/// resort, triangle_fallback.rs, meshes the domain): 100, and one more
+/// for each 1,000 elements the domain needs. The public domains need at
+/// most 19; a large domain gets stuck in more places, each needing a
+/// pass; past that, a run is going round in circles.
 const MAX_FALLBACK_PASSES: usize = 100;
 /// No element may leave the remaining domain a sharper corner than this
 /// (deg): a spike cannot be meshed.
@@ -645,7 +646,7 @@ impl<'k> Mesher<'k> {
             );
         }
         let mut changed = false;
-        if self.fallback_passes <= MAX_FALLBACK_PASSES {
+        if self.fallback_passes <= MAX_FALLBACK_PASSES + self.max_elements / 4000 {
             let mut open = Vec::new();
             for l in loops {
                 let (zipped, rest) = self.zip_slits(l, true);
