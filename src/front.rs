@@ -129,7 +129,7 @@ impl Front {
         self.journal.clear();
         // edges that left the front stay in the grid until dropped here;
         // often enough that a search does not wade through them
-        if self.indexed_since_compaction > 4 * self.occ.len() / 8 + 4096 {
+        if self.indexed_since_compaction > self.occ.len() / 2 + 4096 {
             self.compact_grid();
         }
         let touched = std::mem::take(&mut self.touched);

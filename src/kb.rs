@@ -376,6 +376,11 @@ impl KnowledgeBase {
         )
     }
 
+    /// Drops the memoised answers (the rules may have changed).
+    pub fn forget_answers(&mut self) {
+        self.cache.clear();
+    }
+
     /// The first answer's binding of `var`, memoised by query text.
     pub fn ask_cached(&mut self, query: &str, var: &str) -> Result<Option<Term>, KbError> {
         if let Some(t) = self.cache.get(query) {

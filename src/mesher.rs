@@ -749,6 +749,13 @@ impl<'k> Mesher<'k> {
         self.kb
     }
 
+    /// Drops the KB's designs memoised by context (the rules may have
+    /// changed); edges already queued keep theirs until the front there
+    /// changes.
+    pub fn forget_answers(&mut self) {
+        self.design_memo.clear();
+    }
+
     /// Re-reads the settings and re-classifies every front edge: the
     /// knowledge base changed (a file was consulted mid-run).
     pub fn kb_changed(&mut self) -> Result<(), MeshError> {

@@ -238,6 +238,12 @@ impl<'k> Repl<'k> {
             });
         }));
         std::panic::set_hook(hook);
+        // the query may have asserted or retracted rules: answers kept
+        // from before must be asked again
+        self.kb().forget_answers();
+        if let Some(State::Meshing(m)) = self.state.as_mut() {
+            m.forget_answers();
+        }
         if outcome.is_err() {
             error = Some("the Prolog engine failed on this query (its state may be damaged: :quit and start again if answers look wrong)".into());
         }
