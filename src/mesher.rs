@@ -703,40 +703,30 @@ impl<'k> Mesher<'k> {
             .retain(|&key, _| live(key, version[key as usize]));
     }
 
-    /// The open loops of the front, as node ids in loop order.
-    pub fn front_node_loops(&self) -> Vec<Vec<u32>> {
+    /// Each open loop of the front in loop order, as `each` reads its
+    /// occurrences.
+    fn map_front_loops<T>(&self, each: impl Fn(Fv) -> T) -> Vec<Vec<T>> {
         self.front
             .live_loops()
             .iter()
-            .map(|&l| {
-                self.front
-                    .loop_fvs(l)
-                    .iter()
-                    .map(|&f| self.front.node(f))
-                    .collect()
-            })
+            .map(|&l| self.front.loop_fvs(l).into_iter().map(&each).collect())
             .collect()
+    }
+
+    /// The open loops of the front, as node ids in loop order.
+    pub fn front_node_loops(&self) -> Vec<Vec<u32>> {
+        self.map_front_loops(|f| self.front.node(f))
     }
 
     /// The open loops of the front: each node id with the interior angle
     /// of the remaining domain there (whole degrees), in loop order.
     pub fn front_loop_angles(&self) -> Vec<Vec<(u32, f64)>> {
-        self.front
-            .live_loops()
-            .iter()
-            .map(|&l| {
-                self.front
-                    .loop_fvs(l)
-                    .iter()
-                    .map(|&f| {
-                        (
-                            self.front.node(f),
-                            deg_round(self.front.angle(f, &self.mesh.nodes)),
-                        )
-                    })
-                    .collect()
-            })
-            .collect()
+        self.map_front_loops(|f| {
+            (
+                self.front.node(f),
+                deg_round(self.front.angle(f, &self.mesh.nodes)),
+            )
+        })
     }
 
     /// The knowledge base the run asks.
@@ -2124,6 +2114,26 @@ fn wedge_split(v: DVec2, next: DVec2, d: DVec2, theta: f64) -> Option<f64> {
 mod tests {
     use super::*;
 
+    /// A run on one loop through boundary nodes at `pts`.
+    fn mesher_on_loop<'k>(
+        kb: &'k mut KnowledgeBase,
+        pts: &[(f64, f64)],
+        front_loop: Vec<u32>,
+        size: f64,
+        area: f64,
+    ) -> Mesher<'k> {
+        let mut mesh = Mesh::default();
+        for &(x, y) in pts {
+            mesh.add_node(DVec2::new(x, y), NodeKind::Boundary);
+        }
+        let disc = Discretised {
+            mesh,
+            front_loop,
+            cuts: vec![],
+        };
+        Mesher::new(kb, disc, size, area).unwrap()
+    }
+
     #[test]
     fn a_loop_touching_itself_is_parted_at_the_node() {
         // two unit squares meeting at the corner (1, 1): one loop through
@@ -2137,17 +2147,8 @@ mod tests {
             (1., 2.),
             (0., 1.),
         ];
-        let mut mesh = Mesh::default();
-        for (x, y) in pts {
-            mesh.add_node(DVec2::new(x, y), NodeKind::Boundary);
-        }
-        let disc = Discretised {
-            mesh,
-            front_loop: vec![0, 1, 2, 3, 4, 5, 2, 6],
-            cuts: vec![],
-        };
         let mut kb = KnowledgeBase::builtin().unwrap();
-        let mut m = Mesher::new(&mut kb, disc, 1.0, 2.0).unwrap();
+        let mut m = mesher_on_loop(&mut kb, &pts, vec![0, 1, 2, 3, 4, 5, 2, 6], 1.0, 2.0);
         m.run(&mut |_| {}).unwrap();
         let mut quads: Vec<[u32; 4]> = m.mesh.quads.clone();
         for q in &mut quads {
@@ -2167,18 +2168,10 @@ mod tests {
             (533.6, 838.29),
             (511.23, 875.53),
             (535.24, 875.53),
-        ];
-        let mut mesh = Mesh::default();
-        for (x, y) in pts {
-            mesh.add_node(DVec2::new(x, -y), NodeKind::Boundary);
-        }
-        let disc = Discretised {
-            mesh,
-            front_loop: vec![0, 1, 2, 3, 4, 5],
-            cuts: vec![],
-        };
+        ]
+        .map(|(x, y)| (x, -y));
         let mut kb = KnowledgeBase::builtin().unwrap();
-        let mut m = Mesher::new(&mut kb, disc, 30.0, 1000.0).unwrap();
+        let mut m = mesher_on_loop(&mut kb, &pts, vec![0, 1, 2, 3, 4, 5], 30.0, 1000.0);
         let r = m.run(&mut |_| {});
         for t in &m.trace {
             eprintln!("{}", t.to_json_line());

@@ -46,22 +46,33 @@ fn badness(q: [DVec2; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Whether a sweep looks at node `n`: a free node of some element, marked
+/// dirty since it was last looked at (the mark is taken). A node none of
+/// whose elements changed since then would come out the same.
+fn take_free_dirty(mesh: &Mesh, around: &[Vec<(u32, u8)>], dirty: &mut [bool], n: usize) -> bool {
+    std::mem::take(&mut dirty[n]) && mesh.kinds[n] == NodeKind::Interior && !around[n].is_empty()
+}
+
+/// Marks every node of these elements dirty: a sweep looks at them again.
+fn mark_nodes(mesh: &Mesh, quads: impl Iterator<Item = u32>, dirty: &mut [bool]) {
+    for q in quads {
+        for m in mesh.quads[q as usize] {
+            dirty[m as usize] = true;
+        }
+    }
+}
+
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     let around = node_elements(mesh);
-    // A node none of whose elements changed since it was last looked at
-    // would come out the same: only the dirty ones are looked at (the
-    // sweeps give the same mesh as looking at every node).
+    // only dirty nodes are looked at: the same mesh as looking at all
     let mut dirty = vec![true; mesh.nodes.len()];
     let mut kept = 0;
     for _ in 0..passes {
         kept = 0;
         for n in 0..mesh.nodes.len() {
-            if !std::mem::take(&mut dirty[n])
-                || mesh.kinds[n] != NodeKind::Interior
-                || around[n].is_empty()
-            {
+            if !take_free_dirty(mesh, &around, &mut dirty, n) {
                 continue;
             }
             // Eq. 4: the two neighbours of n in each of its elements
@@ -93,11 +104,7 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
                     .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;
-                    for &(q, _) in &around[n] {
-                        for m in mesh.quads[q as usize] {
-                            dirty[m as usize] = true;
-                        }
-                    }
+                    mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), &mut dirty);
                     // after half a move the target is still ahead
                     dirty[n] = t < 1.0;
                     break;
@@ -147,17 +154,12 @@ fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
 /// than it was, never inverts one. Returns the moves kept.
 pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     let around = node_elements(mesh);
-    // as in `laplace`: a node whose elements did not change since it was
-    // last searched would stay where it is
     let mut dirty = vec![true; mesh.nodes.len()];
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
         for n in 0..mesh.nodes.len() {
-            if !std::mem::take(&mut dirty[n])
-                || mesh.kinds[n] != NodeKind::Interior
-                || around[n].is_empty()
-            {
+            if !take_free_dirty(mesh, &around, &mut dirty, n) {
                 continue;
             }
             if corners_fine(mesh, &around[n]) {
@@ -180,11 +182,7 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
             if best != old {
                 moved += 1;
                 any = true;
-                for &(q, _) in &around[n] {
-                    for m in mesh.quads[q as usize] {
-                        dirty[m as usize] = true;
-                    }
-                }
+                mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), &mut dirty);
             }
         }
         if !any {
@@ -320,10 +318,7 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
     for _ in 0..passes {
         let mut any = false;
         for n in 0..mesh.nodes.len() {
-            if !std::mem::take(&mut dirty[n])
-                || mesh.kinds[n] != NodeKind::Interior
-                || around[n].is_empty()
-            {
+            if !take_free_dirty(mesh, &around, &mut dirty, n) {
                 continue;
             }
             let own = excess_round(mesh, &area, n);
@@ -343,9 +338,6 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                 })
                 .fold(0.0, f64::max);
             let start_excess = own.max(fixed);
-            if start_excess <= 0.95 {
-                continue;
-            }
             let start = worst_around(mesh, &around[n]);
             let start_outside = corners_outside(mesh, &around[n]);
             let old = mesh.nodes[n];
@@ -373,11 +365,7 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                     area[q as usize] = quad_area(mesh, q);
                     let touched =
                         std::iter::once(q).chain(neighbours[q as usize].iter().flatten().copied());
-                    for f in touched {
-                        for m in mesh.quads[f as usize] {
-                            dirty[m as usize] = true;
-                        }
-                    }
+                    mark_nodes(mesh, touched, &mut dirty);
                 }
             }
         }
