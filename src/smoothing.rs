@@ -46,11 +46,112 @@ fn badness(q: [DVec2; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Whether a sweep looks at node `n`: a free node of some element, marked
-/// dirty since it was last looked at (the mark is taken). A node none of
-/// whose elements changed since then would come out the same.
-fn take_free_dirty(mesh: &Mesh, around: &[Vec<(u32, u8)>], dirty: &mut [bool], n: usize) -> bool {
-    std::mem::take(&mut dirty[n]) && mesh.kinds[n] == NodeKind::Interior && !around[n].is_empty()
+/// Whether a sweep looks at node `n`: a free node of some element that
+/// this sweep may move, marked dirty since it was last looked at (the mark
+/// is taken). A node none of whose elements changed since then would come
+/// out the same.
+fn take_free_dirty(mesh: &Mesh, nodes: &Nodes, dirty: &mut [bool], n: usize) -> bool {
+    nodes.movable[n]
+        && std::mem::take(&mut dirty[n])
+        && mesh.kinds[n] == NodeKind::Interior
+        && !nodes.around[n].is_empty()
+}
+
+/// What a sweep works on: each node's elements, and the nodes it may move.
+struct Nodes<'a> {
+    around: &'a [Vec<(u32, u8)>],
+    movable: &'a [bool],
+}
+
+/// How many rings of elements either side of the seam its sweep may move.
+const SEAM_BAND: usize = 3;
+
+/// Meshes with fewer nodes are smoothed on one thread.
+const SPLIT_FROM_NODES: usize = 20_000;
+
+/// Runs a sweep over every free node, on two threads for a large mesh.
+///
+/// The nodes are split at the median x. Each half is swept on its own
+/// copy of the mesh, without the nodes at the seam (those sharing an
+/// element with the other half), so neither moves what the other reads;
+/// then one thread sweeps the seam and whatever the halves left marked.
+/// The split depends on the mesh alone, never on the machine's cores, so
+/// the result is the same on any machine. Returns the moves kept.
+fn sweep_in_halves(
+    mesh: &mut Mesh,
+    sweep: impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync,
+) -> usize {
+    let around = node_elements(mesh);
+    let n = mesh.nodes.len();
+    let all = vec![true; n];
+    if n < SPLIT_FROM_NODES {
+        let mut dirty = vec![true; n];
+        let nodes = Nodes {
+            around: &around,
+            movable: &all,
+        };
+        return sweep(mesh, &nodes, &mut dirty);
+    }
+    let mut xs: Vec<f64> = mesh.nodes.iter().map(|p| p.x).collect();
+    let mid = n / 2;
+    let split = *xs.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let right: Vec<bool> = mesh.nodes.iter().map(|p| p.x > split).collect();
+    let seam: Vec<bool> = (0..n)
+        .map(|i| {
+            around[i].iter().any(|&(q, _)| {
+                mesh.quads[q as usize]
+                    .iter()
+                    .any(|&m| right[m as usize] != right[i])
+            })
+        })
+        .collect();
+    let movable_left: Vec<bool> = (0..n).map(|i| !right[i] && !seam[i]).collect();
+    let movable_right: Vec<bool> = (0..n).map(|i| right[i] && !seam[i]).collect();
+    let mut right_mesh = mesh.clone();
+    let mut dirty_left = movable_left.clone();
+    let mut dirty_right = movable_right.clone();
+    let moved = std::thread::scope(|scope| {
+        let right_half = scope.spawn(|| {
+            let nodes = Nodes {
+                around: &around,
+                movable: &movable_right,
+            };
+            sweep(&mut right_mesh, &nodes, &mut dirty_right)
+        });
+        let nodes = Nodes {
+            around: &around,
+            movable: &movable_left,
+        };
+        let left = sweep(mesh, &nodes, &mut dirty_left);
+        // a sweep that panicked is a defect: let it surface as one
+        left + right_half
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e))
+    });
+    for i in (0..n).filter(|&i| movable_right[i]) {
+        mesh.nodes[i] = right_mesh.nodes[i];
+    }
+    // the halves had their passes: the seam is left, swept within a band
+    // of a few elements either side (a settling move there need not
+    // ripple across the whole mesh)
+    let mut band = seam.clone();
+    for _ in 0..SEAM_BAND {
+        let ring: Vec<bool> = (0..n)
+            .map(|i| {
+                band[i]
+                    || around[i]
+                        .iter()
+                        .any(|&(q, _)| mesh.quads[q as usize].iter().any(|&m| band[m as usize]))
+            })
+            .collect();
+        band = ring;
+    }
+    let mut dirty = seam;
+    let nodes = Nodes {
+        around: &around,
+        movable: &band,
+    };
+    moved + sweep(mesh, &nodes, &mut dirty)
 }
 
 /// Marks every node of these elements dirty: a sweep looks at them again.
@@ -65,14 +166,19 @@ fn mark_nodes(mesh: &Mesh, quads: impl Iterator<Item = u32>, dirty: &mut [bool])
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
-    let around = node_elements(mesh);
+    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+        laplace_sweeps(mesh, passes, nodes, dirty)
+    })
+}
+
+fn laplace_sweeps(mesh: &mut Mesh, passes: usize, nodes: &Nodes, dirty: &mut [bool]) -> usize {
+    let around = nodes.around;
     // only dirty nodes are looked at: the same mesh as looking at all
-    let mut dirty = vec![true; mesh.nodes.len()];
     let mut kept = 0;
     for _ in 0..passes {
         kept = 0;
         for n in 0..mesh.nodes.len() {
-            if !take_free_dirty(mesh, &around, &mut dirty, n) {
+            if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
             // Eq. 4: the two neighbours of n in each of its elements
@@ -104,7 +210,7 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
                     .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;
-                    mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), &mut dirty);
+                    mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
                     // after half a move the target is still ahead
                     dirty[n] = t < 1.0;
                     break;
@@ -116,19 +222,48 @@ pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     kept
 }
 
+/// An element's `badness` and its scaled Jacobian (smallest sine of a
+/// corner) together, the edge vectors worked out once: the same numbers
+/// as the two functions apart. None if the element is not convex.
+fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
+    for i in 0..4 {
+        if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
+            return None;
+        }
+    }
+    let e: [DVec2; 4] = std::array::from_fn(|i| q[(i + 1) % 4] - q[i]);
+    let unit = e.map(DVec2::normalize_or_zero);
+    let mut inside = true;
+    let mut min_sin = f64::INFINITY;
+    for i in 0..4 {
+        // corner i between e[i] and the reversed e[i - 1]
+        let (a, b) = (e[i], -e[(i + 3) % 4]);
+        let d = a.dot(b);
+        inside &= 2.0 * d * d <= a.length_squared() * b.length_squared();
+        min_sin = min_sin.min(unit[i].perp_dot(-unit[(i + 3) % 4]));
+    }
+    let bad = if inside {
+        0.0
+    } else {
+        quad_angles(q)
+            .iter()
+            .map(|&a| (45.0 - a).max(a - 135.0).max(0.0))
+            .fold(0.0, f64::max)
+    };
+    Some((bad, min_sin))
+}
+
 /// The worst corner of the elements round a node: (badness, -smallest
 /// sine of a corner), smaller is better; infinite if one is not convex.
 fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let p = mesh.quad_points(q as usize);
-        let b = badness(p);
-        if !b.is_finite() {
+        let Some((b, s)) = badness_and_sine(mesh.quad_points(q as usize)) else {
             return (f64::INFINITY, f64::INFINITY);
-        }
+        };
         bad = bad.max(b);
-        min_sin = min_sin.min(crate::quality::scaled_jacobian(p));
+        min_sin = min_sin.min(s);
     }
     (bad, -min_sin)
 }
@@ -153,13 +288,18 @@ fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
 /// corner round it is best; `passes` sweeps. Never makes an element worse
 /// than it was, never inverts one. Returns the moves kept.
 pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
-    let around = node_elements(mesh);
-    let mut dirty = vec![true; mesh.nodes.len()];
+    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+        untangle_sweeps(mesh, passes, nodes, dirty)
+    })
+}
+
+fn untangle_sweeps(mesh: &mut Mesh, passes: usize, nodes: &Nodes, dirty: &mut [bool]) -> usize {
+    let around = nodes.around;
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
         for n in 0..mesh.nodes.len() {
-            if !take_free_dirty(mesh, &around, &mut dirty, n) {
+            if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
             if corners_fine(mesh, &around[n]) {
@@ -182,7 +322,7 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
             if best != old {
                 moved += 1;
                 any = true;
-                mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), &mut dirty);
+                mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
             }
         }
         if !any {
@@ -191,6 +331,21 @@ pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     }
     moved
 }
+
+/// The eight directions of the compass search, a unit step each.
+const COMPASS: [DVec2; 8] = {
+    let d = std::f64::consts::FRAC_1_SQRT_2;
+    [
+        DVec2::new(1.0, 0.0),
+        DVec2::new(d, d),
+        DVec2::new(0.0, 1.0),
+        DVec2::new(-d, d),
+        DVec2::new(-1.0, 0.0),
+        DVec2::new(-d, -d),
+        DVec2::new(0.0, -1.0),
+        DVec2::new(d, -d),
+    ]
+};
 
 /// The best place for node `n` by a compass search: the eight directions
 /// round the best place so far, six times over, the step halving from a
@@ -217,9 +372,8 @@ fn compass_search<S: Copy>(
     let mut step = 0.25 * h;
     for _ in 0..6 {
         let centre = best.1;
-        for k in 0..8 {
-            let a = k as f64 * std::f64::consts::FRAC_PI_4;
-            mesh.nodes[n] = centre + DVec2::new(a.cos(), a.sin()) * step;
+        for dir in COMPASS {
+            mesh.nodes[n] = centre + dir * step;
             if let Some(w) = score(mesh) {
                 if better(w, best.0) {
                     best = (w, mesh.nodes[n]);
@@ -285,8 +439,20 @@ fn size_shape_excess(
 /// leaving [45, 135] further or getting much sharper than it was.
 /// `passes` sweeps; returns the moves kept.
 pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
-    let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh);
+    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+        even_out_sweeps(mesh, passes, nodes, &neighbours, dirty)
+    })
+}
+
+fn even_out_sweeps(
+    mesh: &mut Mesh,
+    passes: usize,
+    nodes: &Nodes,
+    neighbours: &[[Option<u32>; 4]],
+    dirty: &mut [bool],
+) -> usize {
+    let around = nodes.around;
     let quad_area =
         |mesh: &Mesh, q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
     let mut area: Vec<f64> = (0..mesh.quads.len() as u32)
@@ -313,12 +479,11 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
         }
         worst
     };
-    let mut dirty = vec![true; mesh.nodes.len()];
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
         for n in 0..mesh.nodes.len() {
-            if !take_free_dirty(mesh, &around, &mut dirty, n) {
+            if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
             let own = excess_round(mesh, &area, n);
@@ -365,7 +530,7 @@ pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
                     area[q as usize] = quad_area(mesh, q);
                     let touched =
                         std::iter::once(q).chain(neighbours[q as usize].iter().flatten().copied());
-                    mark_nodes(mesh, touched, &mut dirty);
+                    mark_nodes(mesh, touched, dirty);
                 }
             }
         }
@@ -436,6 +601,83 @@ mod tests {
         assert!(even_out_sizes(&mut m, 5) > 0);
         assert!(jump(&m) <= 2.0 * 0.95 + 1e-9, "jump {}", jump(&m));
         assert!(worst_corner(&m) <= corner_before + 1e-9);
+    }
+
+    /// A grid of n x n unit squares, its inner nodes pushed off the grid
+    /// by up to `push` (a fixed pseudo-random sequence).
+    fn pushed_grid(n: usize, push: f64) -> (Mesh, Vec<DVec2>) {
+        let mut m = Mesh::default();
+        let mut seed: u64 = 12345;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut grid = Vec::new();
+        for y in 0..=n {
+            for x in 0..=n {
+                let p = DVec2::new(x as f64, y as f64);
+                grid.push(p);
+                let inner = x > 0 && y > 0 && x < n && y < n;
+                let kind = if inner {
+                    NodeKind::Interior
+                } else {
+                    NodeKind::Boundary
+                };
+                let off = if inner {
+                    DVec2::new(next(), next()) * push
+                } else {
+                    DVec2::ZERO
+                };
+                m.add_node(p + off, kind);
+            }
+        }
+        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
+        for y in 0..n {
+            for x in 0..n {
+                m.quads
+                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        (m, grid)
+    }
+
+    #[test]
+    fn a_large_mesh_is_smoothed_in_halves_seam_included() {
+        let (mut m, grid) = pushed_grid(150, 0.3);
+        assert!(m.nodes.len() >= SPLIT_FROM_NODES);
+        let off = |m: &Mesh, near_seam: bool| {
+            let mid = 75.0;
+            let (sum, count) = (0..m.nodes.len())
+                .filter(|&i| m.kinds[i] == NodeKind::Interior)
+                .filter(|&i| !near_seam || (grid[i].x - mid).abs() <= 2.0)
+                .fold((0.0, 0), |(s, c), i| {
+                    (s + (m.nodes[i] - grid[i]).length(), c + 1)
+                });
+            sum / count as f64
+        };
+        let (before, before_seam) = (off(&m, false), off(&m, true));
+        let mut again = m.clone();
+        laplace(&mut m, 30);
+        laplace(&mut again, 30);
+        assert_eq!(m.nodes, again.nodes, "the same mesh every time");
+        assert!(
+            off(&m, false) < 0.3 * before,
+            "{} of {before}",
+            off(&m, false)
+        );
+        assert!(
+            off(&m, true) < 0.3 * before_seam,
+            "at the seam {} of {before_seam}",
+            off(&m, true)
+        );
+        for (i, p) in m.nodes.iter().enumerate() {
+            if m.kinds[i] == NodeKind::Boundary {
+                assert_eq!(*p, grid[i]);
+            }
+        }
+        assert!((0..m.quads.len()).all(|q| badness(m.quad_points(q)).is_finite()));
     }
 
     #[test]
