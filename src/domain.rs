@@ -25,12 +25,12 @@ pub const MAX_ELEMENTS: usize = 5_000_000;
 #[derive(Debug, thiserror::Error)]
 pub enum DomainError {
     /// The file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {path}: {message}")]
     Io {
         /// The file.
         path: String,
-        /// The cause.
-        source: std::io::Error,
+        /// What the system said (as text: an error chain would repeat it).
+        message: String,
     },
     /// The text is not JSON.
     #[error("{path}: not valid JSON: {message}")]
@@ -480,9 +480,9 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
 impl Domain {
     /// Reads and validates a domain file.
     pub fn from_file(path: &str) -> Result<Domain, DomainError> {
-        let text = std::fs::read_to_string(path).map_err(|source| DomainError::Io {
+        let text = std::fs::read_to_string(path).map_err(|e| DomainError::Io {
             path: path.to_string(),
-            source,
+            message: e.to_string(),
         })?;
         let v: Value = serde_json::from_str(&text).map_err(|e| DomainError::Json {
             path: path.to_string(),

@@ -476,11 +476,11 @@ fn an_unknown_key_is_named_in_a_warning_with_the_key_meant() {
 #[test]
 fn a_missing_domain_file_is_an_error_not_a_panic() {
     let out = tmp("missing.msh");
-    assert_refused(
-        &["mesh", "no/such/domain.json", "-o", out.to_str().unwrap()],
-        &out,
-        "no/such/domain.json",
-    );
+    let args = ["mesh", "no/such/domain.json", "-o", out.to_str().unwrap()];
+    assert_refused(&args, &out, "no/such/domain.json");
+    // the system's reason once, not repeated by the error chain
+    let err = stderr(&freemesh(&args));
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
 }
 
 #[test]
