@@ -10,6 +10,8 @@
 //! per-query memory (it keeps ~2 bytes a query character) stays bounded.
 
 use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, Term};
+
+use crate::second_engine::{Answer, Question, SecondEngine};
 use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
 
@@ -117,6 +119,7 @@ pub struct KnowledgeBase {
     cache: HashMap<String, Option<Term>>,
     /// Queries sent to the engine (cache misses) and answered from the cache.
     pub stats: KbStats,
+    second: Option<SecondEngine>,
 }
 
 /// Counters of the engine's use.
@@ -128,7 +131,15 @@ pub struct KbStats {
     pub cached_queries: u64,
     /// Time spent in the engine.
     pub engine_time: std::time::Duration,
+    /// Of the engine queries, those a second engine answered in parallel.
+    pub second_engine_queries: u64,
+    /// The second engine's time on them.
+    pub second_engine_time: std::time::Duration,
 }
+
+/// Batches of new questions smaller than this are answered by the first
+/// engine alone: handing work over costs about a question's time.
+const SPLIT_FROM: usize = 4;
 
 /// Renders a term as Prolog text (atoms quoted when needed).
 pub fn term_text(t: &Term) -> String {
@@ -249,6 +260,7 @@ impl KnowledgeBase {
             files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
             cache: HashMap::new(),
             stats: KbStats::default(),
+            second: None,
         };
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
@@ -376,9 +388,68 @@ impl KnowledgeBase {
         )
     }
 
-    /// Drops the memoised answers (the rules may have changed).
+    /// Drops the memoised answers (the rules may have changed, so a
+    /// second engine is stopped too).
     pub fn forget_answers(&mut self) {
         self.cache.clear();
+        self.second = None;
+    }
+
+    /// Starts a second engine on another thread with the same rules (the
+    /// built-in ones and the files consulted so far), to answer part of
+    /// each batch of `ask_bounded_fresh_all`. Worth it on a machine with
+    /// a core to spare and a run of more than a fraction of a second.
+    pub fn start_second_engine(&mut self) {
+        let user_files = self.files[BUILTIN_KB.len()..].to_vec();
+        self.second = Some(SecondEngine::start(user_files));
+    }
+
+    /// Waits until the second engine is loaded; false if there is none,
+    /// it failed, or `timeout` passed first.
+    pub fn wait_for_second_engine(&self, timeout: std::time::Duration) -> bool {
+        let t0 = std::time::Instant::now();
+        while t0.elapsed() < timeout {
+            match self.second.as_ref().and_then(SecondEngine::is_ready) {
+                Some(true) => return true,
+                Some(false) => std::thread::sleep(std::time::Duration::from_millis(1)),
+                None => return false,
+            }
+        }
+        false
+    }
+
+    /// `ask_bounded_fresh` for each question, in order. A batch of
+    /// `SPLIT_FROM` or more is shared with the second engine when there
+    /// is one and it is ready: both take questions in turn.
+    pub fn ask_bounded_fresh_all(&mut self, questions: &[Question]) -> Vec<Answer> {
+        let ready = self.second.as_ref().and_then(SecondEngine::is_ready);
+        match ready {
+            Some(true) if questions.len() >= SPLIT_FROM => {
+                let Some(second) = self.second.take() else {
+                    unreachable!("ready implies a second engine")
+                };
+                let time_before = second.time();
+                let (answers, theirs) = second.share(self, questions.to_vec());
+                self.stats.engine_queries += theirs;
+                self.stats.second_engine_queries += theirs;
+                // (its time on a question still running shows next time)
+                self.stats.second_engine_time += second.time() - time_before;
+                self.second = Some(second);
+                answers
+            }
+            None if self.second.is_some() => {
+                self.second = None; // it failed to load or is gone
+                self.ask_each(questions)
+            }
+            _ => self.ask_each(questions),
+        }
+    }
+
+    fn ask_each(&mut self, questions: &[Question]) -> Vec<Answer> {
+        questions
+            .iter()
+            .map(|(q, ctx)| self.ask_bounded_fresh(q, ctx))
+            .collect()
     }
 
     /// The first answer's binding of `var`, memoised by query text.
@@ -441,7 +512,11 @@ impl KnowledgeBase {
                 ),
             }),
         }
-        .inspect(|_| self.files.push(path.to_string()))
+        .inspect(|_| {
+            self.files.push(path.to_string());
+            // its rules are out of date now
+            self.second = None;
+        })
     }
 
     /// The recursion strategy: feature names in the order they are tried.

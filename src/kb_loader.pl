@@ -250,6 +250,19 @@ fm_design(Ctx, R) :-
     ;   Outcome = fault(Why), fm_design_culprit_(Ctx, Rule), R = fault(Rule, Why)
     ).
 
+%% fm_design_packed(+Angles, +H5, +H6, -R)
+%
+% fm_design/2 with the context packed by the host: the five angles
+% Theta7, Theta4, Theta1, Theta2, Theta5 as base-1000 digits of Angles,
+% L5 and L6 in hundredths (the query text is then short to read).
+fm_design_packed(P, H5, H6, R) :-
+    T5 is P mod 1000, P1 is P // 1000,
+    T2 is P1 mod 1000, P2 is P1 // 1000,
+    T1 is P2 mod 1000, P3 is P2 // 1000,
+    T4 is P3 mod 1000, T7 is P3 // 1000,
+    L5 is H5 / 100.0, L6 is H6 / 100.0,
+    fm_design(ctx(T7, T4, T1, T2, T5, L5, L6), R).
+
 %% fm_redesign(+Ctx, +Action, +Relations, -R)
 %
 % R = r(Rule, NewAction), or fault(Rule, Why). Fails when no rule fires.

@@ -31,6 +31,7 @@ pub mod mesher;
 pub mod output;
 pub mod quality;
 pub mod repl;
+pub mod second_engine;
 pub mod smoothing;
 pub mod trace;
 pub mod triangle_fallback;
@@ -51,6 +52,9 @@ pub struct Options {
     pub max_size: Option<f64>,
     /// Sweeps of Laplace smoothing (Eq. 4).
     pub smoothing_passes: usize,
+    /// Whether the inference trace is kept (`MeshResult::trace`); a run
+    /// that writes no trace saves its time and memory.
+    pub trace: bool,
 }
 
 impl Default for Options {
@@ -59,6 +63,7 @@ impl Default for Options {
             size: None,
             max_size: None,
             smoothing_passes: 30,
+            trace: true,
         }
     }
 }
@@ -72,6 +77,11 @@ impl Options {
     /// Sets the largest interior size.
     pub fn with_max_size(mut self, max_size: Option<f64>) -> Self {
         self.max_size = max_size;
+        self
+    }
+    /// Keeps the inference trace, or not.
+    pub fn with_trace(mut self, trace: bool) -> Self {
+        self.trace = trace;
         self
     }
 }
@@ -205,6 +215,7 @@ pub fn mesh_domain(
     let kb_before = kb.stats;
     let t0 = std::time::Instant::now();
     let mut m = start_mesher(domain, kb, opts.size)?;
+    m.record_trace = opts.trace;
     let prepare = t0.elapsed().as_secs_f64();
     let by_rules = m.run(progress).map_err(Error::from).and_then(|()| {
         let recursion = t0.elapsed().as_secs_f64() - prepare;
@@ -327,6 +338,8 @@ fn finish_mesh(
     kb_stats.engine_queries -= kb_before.engine_queries;
     kb_stats.cached_queries -= kb_before.cached_queries;
     kb_stats.engine_time -= kb_before.engine_time;
+    kb_stats.second_engine_queries -= kb_before.second_engine_queries;
+    kb_stats.second_engine_time -= kb_before.second_engine_time;
     Ok(MeshResult {
         mesh,
         trace,

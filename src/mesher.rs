@@ -19,6 +19,7 @@ use crate::geometry::{
 };
 use crate::kb::{term_text, KbError, KnowledgeBase};
 use crate::mesh::{Mesh, NodeKind};
+use crate::second_engine::Question;
 use crate::trace::{Angles, TraceStep};
 use scryer_prolog::Term;
 
@@ -221,8 +222,12 @@ pub struct Mesher<'k> {
     design_memo: HashMap<[u64; 7], Option<(std::rc::Rc<str>, Action)>>,
     heap: BinaryHeap<Reverse<Candidate>>,
     seq: u64,
-    /// The inference trace.
+    /// The inference trace (kept when `record_trace`).
     pub trace: Vec<TraceStep>,
+    /// Whether steps are recorded in `trace` (they are always counted).
+    pub record_trace: bool,
+    /// Steps of the inference so far.
+    steps: usize,
     /// Counters.
     pub stats: MeshStats,
     max_elements: usize,
@@ -304,6 +309,8 @@ impl<'k> Mesher<'k> {
             heap: BinaryHeap::new(),
             seq: 0,
             trace: Vec::new(),
+            record_trace: true,
+            steps: 0,
             stats: MeshStats::default(),
             max_elements: (estimate * 4.0) as usize + 1000,
             min_edge: shortest / 3.0,
@@ -412,9 +419,10 @@ impl<'k> Mesher<'k> {
         }
     }
 
-    /// Asks the KB for the feature and action of oriented edge `key`
-    /// (= 2 fv + mirrored) and queues it.
-    fn classify(&mut self, key: u32) -> Result<(), MeshError> {
+    /// The context of oriented edge `key` as the KB sees it, or None when
+    /// the edge is not designed (its loop is closed by a final pattern or
+    /// left to the fallback). Its earlier design is dropped either way.
+    fn edge_context(&mut self, key: u32) -> Option<(Labels, [f64; 7])> {
         let fv = key / 2;
         let mirrored = key % 2 == 1;
         self.version[key as usize] += 1;
@@ -423,7 +431,7 @@ impl<'k> Mesher<'k> {
             || self.front.loop_len(self.front.loop_of(fv)) <= 6
             || self.fallback_only.contains(&self.front.loop_of(fv))
         {
-            return Ok(());
+            return None;
         }
         let lab = self.labels(fv, mirrored);
         let mut nums = self.context_numbers_given(&lab, [0.0; 5]);
@@ -433,8 +441,15 @@ impl<'k> Mesher<'k> {
         {
             nums[i] = self.angle_this_refresh(n);
         }
-        let Some((feature, action)) = self.design_for(&nums)? else {
-            return Ok(());
+        Some((lab, nums))
+    }
+
+    /// Queues oriented edge `key` with the design the KB gave its context
+    /// (asked by `ask_new_contexts`), if the edge shows a feature.
+    fn classify(&mut self, key: u32, lab: &Labels, nums: &[f64; 7]) {
+        let Some(Some((feature, action))) = self.design_memo.get(&nums.map(f64::to_bits)).cloned()
+        else {
+            return;
         };
         let rank = *self.set.rank.get(&*feature).unwrap_or(&u32::MAX);
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2));
@@ -455,44 +470,67 @@ impl<'k> Mesher<'k> {
                 angles,
             },
         );
+    }
+
+    /// Asks the KB the design of each context not asked before (in one
+    /// batch, which a second engine may share) and memoises the answers:
+    /// feature and action, or None when the edge shows no feature.
+    fn ask_new_contexts<'a>(
+        &mut self,
+        contexts: impl Iterator<Item = &'a [f64; 7]>,
+    ) -> Result<(), MeshError> {
+        let mut new: Vec<[f64; 7]> = Vec::new();
+        for nums in contexts {
+            let key = nums.map(f64::to_bits);
+            if self.design_memo.contains_key(&key) || new.iter().any(|n| n.map(f64::to_bits) == key)
+            {
+                self.kb.stats.cached_queries += 1;
+            } else {
+                new.push(*nums);
+            }
+        }
+        if new.is_empty() {
+            return Ok(());
+        }
+        let questions: Vec<Question> = new
+            .iter()
+            .map(|n| (design_question(n), context_text(n)))
+            .collect();
+        let answers = self.kb.ask_bounded_fresh_all(&questions);
+        for ((nums, answer), (_, ctx)) in new.iter().zip(answers).zip(&questions) {
+            let found = match answer? {
+                None => None,
+                Some(ans) => {
+                    let (feature, action) = match &ans {
+                        Term::Compound(d, args) if d == "d" && args.len() == 2 => {
+                            (term_text(&args[0]), Action::from_term(&args[1]))
+                        }
+                        _ => (String::new(), None),
+                    };
+                    let Some(action) = action.filter(|a| a.is_sound()) else {
+                        return Err(KbError::Answer {
+                            query: format!("feature_action({feature}) on {ctx}"),
+                            answer: term_text(&ans),
+                            expected: "d(Feature, Action) with a known, sound action".into(),
+                        }
+                        .into());
+                    };
+                    Some((std::rc::Rc::from(feature), action))
+                }
+            };
+            self.design_memo.insert(nums.map(f64::to_bits), found);
+        }
         Ok(())
     }
 
-    /// The KB's feature and action for a context (None: no feature), from
-    /// the memo when this context was asked before.
-    fn design_for(
-        &mut self,
-        nums: &[f64; 7],
-    ) -> Result<Option<(std::rc::Rc<str>, Action)>, MeshError> {
-        let key = nums.map(f64::to_bits);
-        if let Some(d) = self.design_memo.get(&key) {
-            self.kb.stats.cached_queries += 1;
-            return Ok(d.clone());
+    /// Counts a step of the inference and records it in the trace when
+    /// the trace is kept (`make` gets the step's number).
+    fn note_step(&mut self, make: impl FnOnce(usize) -> TraceStep) {
+        self.steps += 1;
+        if self.record_trace {
+            let step = make(self.steps);
+            self.trace.push(step);
         }
-        let ctx = context_text(nums);
-        let q = format!("fm_design({ctx}, R).");
-        let found = match self.kb.ask_bounded_fresh(&q, &ctx)? {
-            None => None,
-            Some(ans) => {
-                let (feature, action) = match &ans {
-                    Term::Compound(d, args) if d == "d" && args.len() == 2 => {
-                        (term_text(&args[0]), Action::from_term(&args[1]))
-                    }
-                    _ => (String::new(), None),
-                };
-                let Some(action) = action.filter(|a| a.is_sound()) else {
-                    return Err(KbError::Answer {
-                        query: format!("feature_action({feature}) on {ctx}"),
-                        answer: term_text(&ans),
-                        expected: "d(Feature, Action) with a known, sound action".into(),
-                    }
-                    .into());
-                };
-                Some((std::rc::Rc::from(feature), action))
-            }
-        };
-        self.design_memo.insert(key, found.clone());
-        Ok(found)
     }
 
     /// Re-classifies every oriented edge whose context involves a changed
@@ -518,8 +556,13 @@ impl<'k> Mesher<'k> {
         }
         keys.sort_unstable();
         keys.dedup();
-        for k in keys {
-            self.classify(k)?;
+        let edges: Vec<(u32, Labels, [f64; 7])> = keys
+            .into_iter()
+            .filter_map(|k| self.edge_context(k).map(|(lab, nums)| (k, lab, nums)))
+            .collect();
+        self.ask_new_contexts(edges.iter().map(|e| &e.2))?;
+        for (k, lab, nums) in &edges {
+            self.classify(*k, lab, nums);
         }
         Ok(())
     }
@@ -1174,8 +1217,7 @@ impl<'k> Mesher<'k> {
             return Ok(false);
         };
         self.stats.designed += 1;
-        let step = self.trace.len() + 1;
-        self.trace.push(TraceStep {
+        self.note_step(|step| TraceStep {
             step,
             edge: [edge_nodes.0 as i64, edge_nodes.1 as i64],
             angles: angle_map(&angles),
@@ -1366,7 +1408,7 @@ impl<'k> Mesher<'k> {
                     "DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}",
                     self.mesh.quads[qi],
                     self.mesh.quads[j],
-                    self.trace.len() + 1
+                    self.steps + 1
                 );
             }
         }
@@ -1499,8 +1541,7 @@ impl<'k> Mesher<'k> {
                 self.debug_overlap(self.mesh.quads.len() - 1);
             }
             self.stats.closed += 1;
-            let step = self.trace.len() + 1;
-            self.trace.push(TraceStep {
+            self.note_step(|step| TraceStep {
                 step,
                 edge: edge.map(|x| x as i64),
                 angles: angles.clone(),
@@ -1653,12 +1694,11 @@ impl<'k> Mesher<'k> {
         }
         self.front.commit(&self.mesh.nodes);
         self.stats.fallback_splits += 1;
-        let step = self.trace.len() + 1;
         let angles = Angles::new(vec![
             ("theta1", deg_round(theta[i])),
             ("theta2", deg_round(theta[j])),
         ]);
-        self.trace.push(TraceStep {
+        self.note_step(|step| TraceStep {
             step,
             edge: [ids[i] as i64, ids[j] as i64],
             angles,
@@ -1831,8 +1871,7 @@ impl<'k> Mesher<'k> {
         for &qi in removed.iter().rev() {
             let q = self.remove_quad(qi);
             self.stats.unmeshed += 1;
-            let step = self.trace.len() + 1;
-            self.trace.push(TraceStep {
+            self.note_step(|step| TraceStep {
                 step,
                 edge: [q[0] as i64, q[1] as i64],
                 angles: Angles::default(),
@@ -2064,6 +2103,28 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
 
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
 /// The context term of the KB's design question.
+/// The design question for a context, in as few tokens as the engine's
+/// reader allows (reading the query text is half the engine's cost): the
+/// five whole-degree angles packed in base 1000, the two length ratios in
+/// hundredths; `fm_design_packed/4` of the loader unpacks them into the
+/// same `ctx/7` term. Contexts it cannot pack exactly are asked as text.
+fn design_question(n: &[f64; 7]) -> String {
+    let angles_packable = n[..5]
+        .iter()
+        .all(|&a| a.fract() == 0.0 && (0.0..1000.0).contains(&a));
+    let hundredths = |x: f64| {
+        let h = (x * 100.0).round();
+        (h.abs() < 1e15 && h / 100.0 == x).then_some(h as i64)
+    };
+    match (angles_packable, hundredths(n[5]), hundredths(n[6])) {
+        (true, Some(h5), Some(h6)) => {
+            let packed = n[..5].iter().fold(0i64, |p, &a| p * 1000 + a as i64);
+            format!("fm_design_packed({packed},{h5},{h6},R).")
+        }
+        _ => format!("fm_design({}, R).", context_text(n)),
+    }
+}
+
 fn context_text(n: &[f64; 7]) -> String {
     format!(
         "ctx({}, {}, {}, {}, {}, {}, {})",
