@@ -269,76 +269,58 @@ fn join_components(
     // cut: (parent node, child node, child component, interior node ids)
     let mut cuts: Vec<(u32, u32, usize, Vec<u32>)> = Vec::new();
     let mut cut_segs: Vec<(DVec2, DVec2)> = Vec::new();
+    type Cand = (f64, u32, u32, usize, usize);
+    // In order of length (ties by node ids: a total order).
+    let order = |a: &Cand, b: &Cand| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2));
     for _ in 1..n {
         // The shortest admissible cut from any joined to any unjoined one.
-        let mut cands: Vec<(f64, u32, u32, usize, usize)> = Vec::new();
-        for (ci, c) in comps.iter().enumerate() {
-            if joined[ci] {
-                continue;
-            }
-            for (di, d) in comps.iter().enumerate() {
-                if !joined[di] {
-                    continue;
-                }
-                for &u in &attach_nodes(c) {
-                    for &v in &attach_nodes(d) {
-                        let len = (mesh.nodes[u as usize] - mesh.nodes[v as usize]).length();
-                        cands.push((len, v, u, ci, di));
-                    }
-                }
-            }
-        }
-        // In order of length; only the head is sorted unless the search
-        // runs past it (the order is total, so the same either way).
-        let order = |a: &(f64, u32, u32, usize, usize), b: &(f64, u32, u32, usize, usize)| {
-            a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
-        };
-        let head = cands.len().min(8192);
-        if head < cands.len() {
-            cands.select_nth_unstable_by(head, order);
-        }
-        cands[..head].sort_by(order);
-        let mut best: Option<(f64, u32, u32, usize)> = None;
-        let mut checked = 0;
-        for i in 0..cands.len() {
-            if i == head {
-                cands[head..].sort_by(order);
-            }
-            let (len, v, u, ci, di) = cands[i];
-            if used.contains(&u) || used.contains(&v) || len <= 0.0 {
-                continue;
-            }
-            // score >= len: no longer candidate can win; the cap bounds time
-            if best.is_some_and(|b| len >= b.0) || checked > 3000 {
-                break;
-            }
-            checked += 1;
-            let (pv, pu) = (mesh.nodes[v as usize], mesh.nodes[u as usize]);
-            let dir = (pu - pv) / len;
-            let (Some(qv), Some(qu)) = (
-                split_quality(mesh, &comps[di], v, dir),
-                split_quality(mesh, &comps[ci], u, -dir),
-            ) else {
-                continue;
-            };
-            let clear = segs.iter().all(|&(a, b, na, nb)| {
-                if na == u || na == v || nb == u || nb == v {
-                    return true;
-                }
-                segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint
-            }) && cut_segs
+        // The pairs of nodes are many (their number grows with the square
+        // of the boundary's), so only those up to a length are listed, the
+        // length doubling until the search ends inside the list: the same
+        // cut as searching the whole sorted list.
+        let pairs = || {
+            comps
                 .iter()
-                .all(|&(a, b)| segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint);
-            if !clear {
-                continue;
+                .enumerate()
+                .filter(|(ci, _)| !joined[*ci])
+                .flat_map(|(ci, c)| {
+                    comps
+                        .iter()
+                        .enumerate()
+                        .filter(|(di, _)| joined[*di])
+                        .flat_map(move |(di, d)| {
+                            attach_nodes(c).into_iter().flat_map(move |u| {
+                                attach_nodes(d).into_iter().map(move |v| (u, v, ci, di))
+                            })
+                        })
+                })
+        };
+        let pair_len = |u: u32, v: u32| (mesh.nodes[u as usize] - mesh.nodes[v as usize]).length();
+        let shortest = pairs()
+            .map(|(u, v, _, _)| pair_len(u, v))
+            .fold(f64::INFINITY, f64::min);
+        // most searches end a little past the shortest pair
+        let mut margin = 0.05 * shortest + 4.0 * size;
+        let best = loop {
+            let mut cands: Vec<Cand> = Vec::new();
+            let mut all_listed = true;
+            for (u, v, ci, di) in pairs() {
+                let len = pair_len(u, v);
+                if len <= shortest + margin {
+                    cands.push((len, v, u, ci, di));
+                } else {
+                    all_listed = false;
+                }
             }
-            // Shorter is better; a cut meeting a wall at a slant is worse.
-            let q = qv.min(qu).min(std::f64::consts::FRAC_PI_2);
-            let score = len / q.sin();
-            if best.is_none_or(|b| score < b.0) {
-                best = Some((score, v, u, ci));
+            cands.sort_by(order);
+            let (best, ended) = best_cut(mesh, comps, &segs, &cut_segs, &used, &cands);
+            // a candidate past the list is longer than its limit: it cannot
+            // beat a cut whose score is within it
+            if ended || all_listed || best.is_some_and(|b| b.0 <= shortest + margin) {
+                break best;
             }
-        }
+            margin *= 2.0;
+        };
         let Some((_, v, u, ci)) = best else {
             return Err(DomainError::Geometry("cannot join the holes and lines to the outer loop: no clear cutting line (are they too close?)".into()));
         };
@@ -370,6 +352,57 @@ fn join_components(
         })
         .collect();
     Ok((out, cut_paths))
+}
+
+/// The search of `join_components` over candidate cuts sorted by length:
+/// the best-scoring admissible cut (score, parent node, child node, child
+/// component), and whether the search ended before the list did.
+fn best_cut(
+    mesh: &Mesh,
+    comps: &[Component],
+    segs: &[(DVec2, DVec2, u32, u32)],
+    cut_segs: &[(DVec2, DVec2)],
+    used: &std::collections::HashSet<u32>,
+    cands: &[(f64, u32, u32, usize, usize)],
+) -> (Option<(f64, u32, u32, usize)>, bool) {
+    let mut best: Option<(f64, u32, u32, usize)> = None;
+    let mut checked = 0;
+    for &(len, v, u, ci, di) in cands {
+        if used.contains(&u) || used.contains(&v) || len <= 0.0 {
+            continue;
+        }
+        // score >= len: no longer candidate can win; the cap bounds time
+        if best.is_some_and(|b| len >= b.0) || checked > 3000 {
+            return (best, true);
+        }
+        checked += 1;
+        let (pv, pu) = (mesh.nodes[v as usize], mesh.nodes[u as usize]);
+        let dir = (pu - pv) / len;
+        let (Some(qv), Some(qu)) = (
+            split_quality(mesh, &comps[di], v, dir),
+            split_quality(mesh, &comps[ci], u, -dir),
+        ) else {
+            continue;
+        };
+        let clear = segs.iter().all(|&(a, b, na, nb)| {
+            if na == u || na == v || nb == u || nb == v {
+                return true;
+            }
+            segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint
+        }) && cut_segs
+            .iter()
+            .all(|&(a, b)| segments_intersect(pv, pu, a, b) == SegmentRelation::Disjoint);
+        if !clear {
+            continue;
+        }
+        // Shorter is better; a cut meeting a wall at a slant is worse.
+        let q = qv.min(qu).min(std::f64::consts::FRAC_PI_2);
+        let score = len / q.sin();
+        if best.is_none_or(|b| score < b.0) {
+            best = Some((score, v, u, ci));
+        }
+    }
+    (best, false)
 }
 
 type Cut = (u32, u32, usize, Vec<u32>);
