@@ -187,11 +187,26 @@ enum QNode {
 
 /// What the KB decided for an edge: its feature and action, and the
 /// angles it saw (theta7, theta4, theta1, theta2, theta5).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 struct Design {
+    /// Index of the KB's answer in `Mesher::known`; NO_DESIGN: none.
+    known: u32,
+    /// The angles the context had (whole degrees, exact in f32).
+    angles: [f32; 5],
+}
+
+const NO_DESIGN: Design = Design {
+    known: u32::MAX,
+    angles: [0.0; 5],
+};
+
+/// A feature and action the KB gave a context, with the feature's place
+/// in the strategy.
+#[derive(Debug, Clone)]
+struct KnownDesign {
     feature: std::rc::Rc<str>,
     action: Action,
-    angles: [f64; 5],
+    rank: u32,
 }
 
 /// The trace's record of the angles a design saw.
@@ -214,12 +229,16 @@ pub struct Mesher<'k> {
     /// refresh's stamp, degrees): a refresh asks each up to ten times.
     angle_seen: Vec<(u64, f64)>,
     refresh_stamp: u64,
-    /// The KB's design for each queued oriented edge of the live front.
-    design: HashMap<u32, Design>,
+    /// The KB's design for each oriented edge (by key) of the live front.
+    design: Vec<Design>,
+    /// How many edges have a design.
+    designed_edges: usize,
     /// The KB's answers by context (its seven numbers, as the query has
     /// them): the same context gets the same answer, without building
-    /// the query text again. Cleared when the KB changes.
-    design_memo: HashMap<[u64; 7], Option<(std::rc::Rc<str>, Action)>>,
+    /// the query text again. Forgotten when the KB changes.
+    design_memo: HashMap<[u64; 7], u32>,
+    /// The answers the memo points to (None: the context shows no feature).
+    known: Vec<Option<KnownDesign>>,
     heap: BinaryHeap<Reverse<Candidate>>,
     seq: u64,
     /// The inference trace (kept when `record_trace`).
@@ -304,8 +323,10 @@ impl<'k> Mesher<'k> {
             angle_seen: Vec::new(),
             refresh_stamp: 0,
             failed: Vec::new(),
-            design: HashMap::default(),
+            design: Vec::new(),
+            designed_edges: 0,
             design_memo: HashMap::default(),
+            known: Vec::new(),
             heap: BinaryHeap::new(),
             seq: 0,
             trace: Vec::new(),
@@ -415,6 +436,7 @@ impl<'k> Mesher<'k> {
         if self.version.len() < n {
             self.version.resize(n, 0);
             self.failed.resize(n, NOT_FAILED);
+            self.design.resize(n, NO_DESIGN);
             self.angle_seen.resize(n / 2, (0, 0.0));
         }
     }
@@ -426,7 +448,7 @@ impl<'k> Mesher<'k> {
         let fv = key / 2;
         let mirrored = key % 2 == 1;
         self.version[key as usize] += 1;
-        self.design.remove(&key);
+        self.drop_design(key);
         if !self.front.alive(fv)
             || self.front.loop_len(self.front.loop_of(fv)) <= 6
             || self.fallback_only.contains(&self.front.loop_of(fv))
@@ -444,14 +466,13 @@ impl<'k> Mesher<'k> {
         Some((lab, nums))
     }
 
-    /// Queues oriented edge `key` with the design the KB gave its context
-    /// (asked by `ask_new_contexts`), if the edge shows a feature.
-    fn classify(&mut self, key: u32, lab: &Labels, nums: &[f64; 7]) {
-        let Some(Some((feature, action))) = self.design_memo.get(&nums.map(f64::to_bits)).cloned()
-        else {
+    /// Queues oriented edge `key` with the KB's answer `known` for its
+    /// context (see `ask_new_contexts`), if the edge shows a feature.
+    fn classify(&mut self, key: u32, lab: &Labels, nums: &[f64; 7], known: u32) {
+        let Some(k) = &self.known[known as usize] else {
             return;
         };
-        let rank = *self.set.rank.get(&*feature).unwrap_or(&u32::MAX);
+        let rank = k.rank;
         let layer = self.front.layer(lab.n1).max(self.front.layer(lab.n2));
         self.seq += 1;
         self.heap.push(Reverse(Candidate {
@@ -461,66 +482,108 @@ impl<'k> Mesher<'k> {
             key,
             version: self.version[key as usize],
         }));
-        let angles = [nums[0], nums[1], nums[2], nums[3], nums[4]];
-        self.design.insert(
-            key,
-            Design {
-                feature,
-                action,
-                angles,
-            },
-        );
+        self.designed_edges += 1;
+        self.design[key as usize] = Design {
+            known,
+            angles: std::array::from_fn(|i| nums[i] as f32),
+        };
+    }
+
+    /// Forgets the design of oriented edge `key`.
+    fn drop_design(&mut self, key: u32) {
+        let d = &mut self.design[key as usize];
+        if d.known != NO_DESIGN.known {
+            *d = NO_DESIGN;
+            self.designed_edges -= 1;
+        }
     }
 
     /// Asks the KB the design of each context not asked before (in one
-    /// batch, which a second engine may share) and memoises the answers:
-    /// feature and action, or None when the edge shows no feature.
+    /// batch, which a second engine may share) and memoises the answers;
+    /// gives, for each context in order, its answer's index in `known`.
     fn ask_new_contexts<'a>(
         &mut self,
         contexts: impl Iterator<Item = &'a [f64; 7]>,
-    ) -> Result<(), MeshError> {
-        let mut new: Vec<[f64; 7]> = Vec::new();
+    ) -> Result<Vec<u32>, MeshError> {
+        let mut found = Vec::new();
+        let mut new: Vec<([f64; 7], u32)> = Vec::new();
         for nums in contexts {
             let key = nums.map(f64::to_bits);
-            if self.design_memo.contains_key(&key) || new.iter().any(|n| n.map(f64::to_bits) == key)
-            {
+            if let Some(&k) = self.design_memo.get(&key) {
                 self.kb.stats.cached_queries += 1;
-            } else {
-                new.push(*nums);
+                found.push(k);
+                continue;
             }
+            // a slot for the answer, filled below
+            let k = self.known.len() as u32;
+            self.known.push(None);
+            self.design_memo.insert(key, k);
+            new.push((*nums, k));
+            found.push(k);
         }
         if new.is_empty() {
-            return Ok(());
+            return Ok(found);
         }
+        // the context as text is for messages: written only for one
         let questions: Vec<Question> = new
             .iter()
-            .map(|n| (design_question(n), context_text(n)))
+            .map(|(n, _)| (design_question(n), String::new()))
             .collect();
         let answers = self.kb.ask_bounded_fresh_all(&questions);
-        for ((nums, answer), (_, ctx)) in new.iter().zip(answers).zip(&questions) {
-            let found = match answer? {
-                None => None,
-                Some(ans) => {
-                    let (feature, action) = match &ans {
-                        Term::Compound(d, args) if d == "d" && args.len() == 2 => {
-                            (term_text(&args[0]), Action::from_term(&args[1]))
-                        }
-                        _ => (String::new(), None),
-                    };
-                    let Some(action) = action.filter(|a| a.is_sound()) else {
-                        return Err(KbError::Answer {
-                            query: format!("feature_action({feature}) on {ctx}"),
-                            answer: term_text(&ans),
-                            expected: "d(Feature, Action) with a known, sound action".into(),
-                        }
-                        .into());
-                    };
-                    Some((std::rc::Rc::from(feature), action))
+        for (&(nums, k), answer) in new.iter().zip(answers) {
+            match self.known_design(&nums, answer) {
+                Ok(d) => self.known[k as usize] = d,
+                Err(e) => {
+                    // unasked as far as the memo knows
+                    for (n, _) in &new {
+                        self.design_memo.remove(&n.map(f64::to_bits));
+                    }
+                    return Err(e);
                 }
-            };
-            self.design_memo.insert(nums.map(f64::to_bits), found);
+            }
         }
-        Ok(())
+        Ok(found)
+    }
+
+    /// The KB's answer to a design question, read: feature and action (with
+    /// the feature's rank), None when the edge shows no feature.
+    fn known_design(
+        &self,
+        nums: &[f64; 7],
+        answer: crate::second_engine::Answer,
+    ) -> Result<Option<KnownDesign>, MeshError> {
+        let ctx = || context_text(nums);
+        let answer = answer.map_err(|e| match e {
+            KbError::Rule { rule, why, .. } => KbError::Rule {
+                rule,
+                why,
+                context: ctx(),
+            },
+            other => other,
+        });
+        let Some(ans) = answer? else {
+            return Ok(None);
+        };
+        let (feature, action) = match &ans {
+            Term::Compound(d, args) if d == "d" && args.len() == 2 => {
+                (term_text(&args[0]), Action::from_term(&args[1]))
+            }
+            _ => (String::new(), None),
+        };
+        let Some(action) = action.filter(|a| a.is_sound()) else {
+            return Err(KbError::Answer {
+                query: format!("feature_action({feature}) on {}", ctx()),
+                answer: term_text(&ans),
+                expected: "d(Feature, Action) with a known, sound action".into(),
+            }
+            .into());
+        };
+        let rank = *self.set.rank.get(&feature).unwrap_or(&u32::MAX);
+        Ok(Some(KnownDesign {
+            feature: std::rc::Rc::from(feature),
+            action,
+            rank,
+        }))
     }
 
     /// Counts a step of the inference and records it in the trace when
@@ -560,9 +623,9 @@ impl<'k> Mesher<'k> {
             .into_iter()
             .filter_map(|k| self.edge_context(k).map(|(lab, nums)| (k, lab, nums)))
             .collect();
-        self.ask_new_contexts(edges.iter().map(|e| &e.2))?;
-        for (k, lab, nums) in &edges {
-            self.classify(*k, lab, nums);
+        let known = self.ask_new_contexts(edges.iter().map(|e| &e.2))?;
+        for ((k, lab, nums), known) in edges.iter().zip(known) {
+            self.classify(*k, lab, nums, known);
         }
         Ok(())
     }
@@ -649,7 +712,7 @@ impl<'k> Mesher<'k> {
         if !self.started {
             self.start()?;
         }
-        if self.heap.len() > 4096 && self.heap.len() > 3 * self.design.len() {
+        if self.heap.len() > 4096 && self.heap.len() > 3 * self.designed_edges {
             self.prune_queue();
         }
         while let Some(Reverse(c)) = self.heap.pop() {
@@ -726,8 +789,9 @@ impl<'k> Mesher<'k> {
     pub fn release_working_state(&mut self) {
         self.front = Front::default();
         self.heap = BinaryHeap::new();
-        self.design = HashMap::default();
+        self.design = Vec::new();
         self.design_memo = HashMap::default();
+        self.known = Vec::new();
         self.edge_owner = HashMap::default();
         self.version = Vec::new();
         self.failed = Vec::new();
@@ -742,8 +806,6 @@ impl<'k> Mesher<'k> {
             version[key as usize] == v && failed[key as usize] != v && front.alive(key / 2)
         };
         self.heap.retain(|Reverse(c)| live(c.key, c.version));
-        self.design
-            .retain(|&key, _| live(key, version[key as usize]));
     }
 
     /// Each open loop of the front in loop order, as `each` reads its
@@ -1132,14 +1194,16 @@ impl<'k> Mesher<'k> {
     /// Tries the design for oriented edge `key`: place, redesign, check,
     /// commit. False when no valid element came of it.
     fn try_design(&mut self, key: u32) -> Result<bool, MeshError> {
-        let Some(Design {
+        let Design { known, angles } = self.design[key as usize];
+        let Some(Some(KnownDesign {
             feature,
             mut action,
-            angles,
-        }) = self.design.get(&key).cloned()
+            ..
+        })) = self.known.get(known as usize).cloned()
         else {
             return Ok(false);
         };
+        let angles = angles.map(f64::from);
         let mut lab = self.labels(key / 2, key % 2 == 1);
         let mut fired = Vec::new();
         let mut merges: [Option<Fv>; 2] = [None, None];

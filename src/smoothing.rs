@@ -46,97 +46,134 @@ fn badness(q: [DVec2; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Whether a sweep looks at node `n`: a free node of some element that
-/// this sweep may move, marked dirty since it was last looked at (the mark
-/// is taken). A node none of whose elements changed since then would come
-/// out the same.
+/// Whether a sweep looks at node `n`: a free node of some element, marked
+/// dirty since it was last looked at (the mark is taken). A node none of
+/// whose elements changed since then would come out the same.
 fn take_free_dirty(mesh: &Mesh, nodes: &Nodes, dirty: &mut [bool], n: usize) -> bool {
-    nodes.movable[n]
-        && std::mem::take(&mut dirty[n])
+    std::mem::take(&mut dirty[n])
         && mesh.kinds[n] == NodeKind::Interior
         && !nodes.around[n].is_empty()
 }
 
-/// What a sweep works on: each node's elements, and the nodes it may move.
+/// What a sweep works on: each node's elements, and the nodes it visits
+/// (in ascending order; it moves no other).
 struct Nodes<'a> {
     around: &'a [Vec<(u32, u8)>],
-    movable: &'a [bool],
+    visit: &'a [u32],
 }
-
-/// How many rings of elements either side of the seam its sweep may move.
-const SEAM_BAND: usize = 3;
 
 /// Meshes with fewer nodes are smoothed on one thread.
 const SPLIT_FROM_NODES: usize = 20_000;
 
-/// Runs a sweep over every free node, on two threads for a large mesh.
+/// A large mesh is cut into this many strips across x.
+const STRIPS: usize = 8;
+
+/// How many rings of elements either side of a seam its sweep may move.
+const SEAM_BAND: usize = 3;
+
+/// Runs a sweep over every free node; a large mesh on several threads.
 ///
-/// The nodes are split at the median x. Each half is swept on its own
-/// copy of the mesh, without the nodes at the seam (those sharing an
-/// element with the other half), so neither moves what the other reads;
-/// then one thread sweeps the seam and whatever the halves left marked.
-/// The split depends on the mesh alone, never on the machine's cores, so
-/// the result is the same on any machine. Returns the moves kept.
-fn sweep_in_halves(
+/// The nodes are cut into strips by x. A strip is swept without its nodes
+/// at a seam (those sharing an element with another strip), so no strip
+/// moves a node another one reads; the threads take strips in turn, each
+/// on its own copy of the mesh. Then one thread sweeps the seams, within a
+/// band of a few elements. The strips depend on the mesh alone, and a
+/// strip comes out the same whichever thread sweeps it, so the result is
+/// the same on any machine. Returns the moves kept.
+fn sweep_in_strips(
     mesh: &mut Mesh,
     sweep: impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync,
 ) -> usize {
     let around = node_elements(mesh);
     let n = mesh.nodes.len();
-    let all = vec![true; n];
     if n < SPLIT_FROM_NODES {
+        let all: Vec<u32> = (0..n as u32).collect();
         let mut dirty = vec![true; n];
         let nodes = Nodes {
             around: &around,
-            movable: &all,
+            visit: &all,
         };
         return sweep(mesh, &nodes, &mut dirty);
     }
-    let mut xs: Vec<f64> = mesh.nodes.iter().map(|p| p.x).collect();
-    let mid = n / 2;
-    let split = *xs.select_nth_unstable_by(mid, f64::total_cmp).1;
-    let right: Vec<bool> = mesh.nodes.iter().map(|p| p.x > split).collect();
-    let seam: Vec<bool> = (0..n)
-        .map(|i| {
-            around[i].iter().any(|&(q, _)| {
-                mesh.quads[q as usize]
-                    .iter()
-                    .any(|&m| right[m as usize] != right[i])
-            })
-        })
-        .collect();
-    let movable_left: Vec<bool> = (0..n).map(|i| !right[i] && !seam[i]).collect();
-    let movable_right: Vec<bool> = (0..n).map(|i| right[i] && !seam[i]).collect();
-    let mut right_mesh = mesh.clone();
-    let mut dirty_left = movable_left.clone();
-    let mut dirty_right = movable_right.clone();
-    let moved = std::thread::scope(|scope| {
-        let right_half = scope.spawn(|| {
-            let nodes = Nodes {
-                around: &around,
-                movable: &movable_right,
-            };
-            sweep(&mut right_mesh, &nodes, &mut dirty_right)
-        });
-        let nodes = Nodes {
-            around: &around,
-            movable: &movable_left,
-        };
-        let left = sweep(mesh, &nodes, &mut dirty_left);
-        // a sweep that panicked is a defect: let it surface as one
-        left + right_half
-            .join()
-            .unwrap_or_else(|e| std::panic::resume_unwind(e))
+    let mut by_x: Vec<u32> = (0..n as u32).collect();
+    by_x.sort_by(|&a, &b| {
+        mesh.nodes[a as usize]
+            .x
+            .total_cmp(&mesh.nodes[b as usize].x)
+            .then(a.cmp(&b))
     });
-    for i in (0..n).filter(|&i| movable_right[i]) {
-        mesh.nodes[i] = right_mesh.nodes[i];
+    let mut strip = vec![0usize; n];
+    for (rank, &i) in by_x.iter().enumerate() {
+        strip[i as usize] = rank * STRIPS / n;
     }
-    // the halves had their passes: the seam is left, swept within a band
-    // of a few elements either side (a settling move there need not
-    // ripple across the whole mesh)
+    let at_seam = |i: usize| {
+        around[i].iter().any(|&(q, _)| {
+            mesh.quads[q as usize]
+                .iter()
+                .any(|&m| strip[m as usize] != strip[i])
+        })
+    };
+    let seam: Vec<bool> = (0..n).map(at_seam).collect();
+    let mut inner: Vec<Vec<u32>> = vec![Vec::new(); STRIPS];
+    for i in (0..n).filter(|&i| !seam[i]) {
+        inner[strip[i]].push(i as u32);
+    }
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |c| c.get())
+        .clamp(1, 4);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    // sweeps strips as they come; the strips it swept and the moves kept
+    let work = |m: &mut Mesh| {
+        let mut dirty = vec![false; n];
+        let mut done = Vec::new();
+        let mut moved = 0;
+        loop {
+            let s = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+            let Some(visit) = inner.get(s) else {
+                return (done, moved);
+            };
+            for &i in visit {
+                dirty[i as usize] = true;
+            }
+            moved += sweep(
+                m,
+                &Nodes {
+                    around: &around,
+                    visit,
+                },
+                &mut dirty,
+            );
+            done.push(s);
+        }
+    };
+    let mut copies: Vec<Mesh> = (1..threads).map(|_| mesh.clone()).collect();
+    let (mine, others) = std::thread::scope(|scope| {
+        let handles: Vec<_> = copies
+            .iter_mut()
+            .map(|copy| scope.spawn(|| work(copy)))
+            .collect();
+        let mine = work(mesh);
+        // a sweep that panicked is a defect: let it surface as one
+        let others: Vec<_> = handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect();
+        (mine, others)
+    });
+    let mut moved = mine.1;
+    for (copy, (done, m)) in copies.iter().zip(others) {
+        moved += m;
+        for s in done {
+            for &i in &inner[s] {
+                mesh.nodes[i as usize] = copy.nodes[i as usize];
+            }
+        }
+    }
+    // the seams are left, swept within a band of a few elements either
+    // side (a settling move there need not ripple across the mesh)
     let mut band = seam.clone();
     for _ in 0..SEAM_BAND {
-        let ring: Vec<bool> = (0..n)
+        band = (0..n)
             .map(|i| {
                 band[i]
                     || around[i]
@@ -144,14 +181,18 @@ fn sweep_in_halves(
                         .any(|&(q, _)| mesh.quads[q as usize].iter().any(|&m| band[m as usize]))
             })
             .collect();
-        band = ring;
     }
+    let visit: Vec<u32> = (0..n as u32).filter(|&i| band[i as usize]).collect();
     let mut dirty = seam;
-    let nodes = Nodes {
-        around: &around,
-        movable: &band,
-    };
-    moved + sweep(mesh, &nodes, &mut dirty)
+    moved
+        + sweep(
+            mesh,
+            &Nodes {
+                around: &around,
+                visit: &visit,
+            },
+            &mut dirty,
+        )
 }
 
 /// Marks every node of these elements dirty: a sweep looks at them again.
@@ -166,7 +207,7 @@ fn mark_nodes(mesh: &Mesh, quads: impl Iterator<Item = u32>, dirty: &mut [bool])
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
-    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+    sweep_in_strips(mesh, |mesh, nodes, dirty| {
         laplace_sweeps(mesh, passes, nodes, dirty)
     })
 }
@@ -177,7 +218,8 @@ fn laplace_sweeps(mesh: &mut Mesh, passes: usize, nodes: &Nodes, dirty: &mut [bo
     let mut kept = 0;
     for _ in 0..passes {
         kept = 0;
-        for n in 0..mesh.nodes.len() {
+        for &n in nodes.visit {
+            let n = n as usize;
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
@@ -288,7 +330,7 @@ fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
 /// corner round it is best; `passes` sweeps. Never makes an element worse
 /// than it was, never inverts one. Returns the moves kept.
 pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
-    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+    sweep_in_strips(mesh, |mesh, nodes, dirty| {
         untangle_sweeps(mesh, passes, nodes, dirty)
     })
 }
@@ -298,7 +340,8 @@ fn untangle_sweeps(mesh: &mut Mesh, passes: usize, nodes: &Nodes, dirty: &mut [b
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
-        for n in 0..mesh.nodes.len() {
+        for &n in nodes.visit {
+            let n = n as usize;
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
@@ -440,7 +483,7 @@ fn size_shape_excess(
 /// `passes` sweeps; returns the moves kept.
 pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
     let neighbours = element_neighbours(mesh);
-    sweep_in_halves(mesh, |mesh, nodes, dirty| {
+    sweep_in_strips(mesh, |mesh, nodes, dirty| {
         even_out_sweeps(mesh, passes, nodes, &neighbours, dirty)
     })
 }
@@ -482,7 +525,8 @@ fn even_out_sweeps(
     let mut moved = 0;
     for _ in 0..passes {
         let mut any = false;
-        for n in 0..mesh.nodes.len() {
+        for &n in nodes.visit {
+            let n = n as usize;
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
