@@ -314,9 +314,15 @@ impl<'k> Mesher<'k> {
             .iter()
             .map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length())
             .fold(size, f64::min);
+        // the run's tables sized for the elements expected: growing them
+        // step by step copies them over and over
+        let expected = estimate.min(4e6) as usize;
+        let mut mesh = disc.mesh;
+        mesh.quads.reserve(expected + expected / 8);
+        mesh.nodes.reserve(expected + expected / 8);
         Mesher {
             kb,
-            mesh: disc.mesh,
+            mesh,
             front,
             set,
             version: Vec::new(),
@@ -325,9 +331,9 @@ impl<'k> Mesher<'k> {
             failed: Vec::new(),
             design: Vec::new(),
             designed_edges: 0,
-            design_memo: HashMap::default(),
-            known: Vec::new(),
-            heap: BinaryHeap::new(),
+            design_memo: HashMap::with_capacity_and_hasher(expected / 2, Default::default()),
+            known: Vec::with_capacity(expected / 2),
+            heap: BinaryHeap::with_capacity(1 << 14),
             seq: 0,
             trace: Vec::new(),
             record_trace: true,
@@ -340,7 +346,7 @@ impl<'k> Mesher<'k> {
             fallback_passes: 0,
             fallback_only: Default::default(),
             started: false,
-            edge_owner: HashMap::default(),
+            edge_owner: HashMap::with_capacity_and_hasher(4 * expected, Default::default()),
             area,
         }
     }
