@@ -323,9 +323,7 @@ fn finish_mesh(
         }
     }
     let t0 = std::time::Instant::now();
-    smoothing::laplace(&mut mesh, opts.smoothing_passes);
-    smoothing::untangle_angles(&mut mesh, 10);
-    smoothing::even_out_sizes(&mut mesh, 10);
+    smoothing::smooth(&mut mesh, opts.smoothing_passes);
     let smoothing = t0.elapsed().as_secs_f64();
     check::check_mesh(&mesh, area)?;
     let quality = quality::measure(&mesh);

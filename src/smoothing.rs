@@ -204,6 +204,28 @@ fn mark_nodes(mesh: &Mesh, quads: impl Iterator<Item = u32>, dirty: &mut [bool])
     }
 }
 
+/// The smoothing stage: `laplace_passes` sweeps of guarded Laplace, then
+/// the angle clean-up and the evening out of sizes, 10 sweeps each; a
+/// large mesh strip by strip (see `sweep_in_strips`), all three on a strip
+/// before the next. Returns the moves kept.
+pub fn smooth(mesh: &mut Mesh, laplace_passes: usize) -> usize {
+    let neighbours = element_neighbours(mesh);
+    sweep_in_strips(mesh, |mesh, nodes, dirty| {
+        // each sweep starts from the nodes marked at the start
+        let start: Vec<bool> = nodes.visit.iter().map(|&i| dirty[i as usize]).collect();
+        let restart = |dirty: &mut [bool]| {
+            for (&i, &d) in nodes.visit.iter().zip(&start) {
+                dirty[i as usize] = d;
+            }
+        };
+        let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty);
+        restart(dirty);
+        moved += untangle_sweeps(mesh, 10, nodes, dirty);
+        restart(dirty);
+        moved + even_out_sweeps(mesh, 10, nodes, &neighbours, dirty)
+    })
+}
+
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
@@ -688,7 +710,7 @@ mod tests {
     }
 
     #[test]
-    fn a_large_mesh_is_smoothed_in_halves_seam_included() {
+    fn a_large_mesh_is_smoothed_in_strips_seams_included() {
         let (mut m, grid) = pushed_grid(150, 0.3);
         assert!(m.nodes.len() >= SPLIT_FROM_NODES);
         let off = |m: &Mesh, near_seam: bool| {
