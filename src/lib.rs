@@ -325,8 +325,16 @@ fn finish_mesh(
     let t0 = std::time::Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes);
     let smoothing = t0.elapsed().as_secs_f64();
-    check::check_mesh(&mesh, area)?;
-    let quality = quality::measure(&mesh);
+    // both only read the mesh: side by side
+    let (checked, quality) = std::thread::scope(|scope| {
+        let checked = scope.spawn(|| check::check_mesh(&mesh, area));
+        let quality = quality::measure(&mesh);
+        let checked = checked
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (checked, quality)
+    });
+    checked?;
     let phases = Phases {
         smoothing,
         check: t0.elapsed().as_secs_f64() - smoothing,
