@@ -157,6 +157,22 @@ pub fn prepare_run(
     kb: &mut KnowledgeBase,
     size: Option<f64>,
 ) -> Result<mesher::Prepared, Error> {
+    let RunBoundary { disc, size, area } = discretise_for_run(domain, size)?;
+    Ok(mesher::Prepared::new(kb, disc, size, area)?)
+}
+
+/// A domain's boundary made ready for a run: discretised, the cutting
+/// lines drawn, the area it encloses. The part of a run that needs no
+/// knowledge base, so it can be done while the engine loads.
+pub struct RunBoundary {
+    disc: boundary::Discretised,
+    size: f64,
+    area: f64,
+}
+
+/// Discretises a domain's boundary with boundary size `size` (the
+/// domain's own when None) and draws the cutting lines.
+pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
         return Err(Error::Option(format!(
@@ -177,15 +193,8 @@ pub fn prepare_run(
         )));
     }
     let disc = boundary::discretise(domain, size)?;
-    let n_loops = 1 + domain.holes.len() as u32;
-    let area: f64 = disc
-        .mesh
-        .boundary
-        .iter()
-        .filter(|e| e.group < n_loops)
-        .map(|e| disc.mesh.nodes[e.a as usize].perp_dot(disc.mesh.nodes[e.b as usize]) / 2.0)
-        .sum();
-    Ok(mesher::Prepared::new(kb, disc, size, area)?)
+    let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
+    Ok(RunBoundary { disc, size, area })
 }
 
 /// The boundary features of a domain's initial loop (after the cutting
@@ -205,16 +214,35 @@ pub fn mesh_domain(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
-    if let Some(m) = opts.max_size {
-        if !(m.is_finite() && m > 0.0) {
-            return Err(Error::Option(format!(
-                "--max-size must be a positive number, got {m}"
-            )));
-        }
+    check_options(opts)?;
+    let run_boundary = discretise_for_run(domain, opts.size)?;
+    mesh_boundary(domain, run_boundary, kb, opts, progress)
+}
+
+fn check_options(opts: &Options) -> Result<(), Error> {
+    match opts.max_size {
+        Some(m) if !(m.is_finite() && m > 0.0) => Err(Error::Option(format!(
+            "--max-size must be a positive number, got {m}"
+        ))),
+        _ => Ok(()),
     }
+}
+
+/// `mesh_domain` on a boundary `discretise_for_run` made ready with the
+/// same size.
+pub fn mesh_boundary(
+    domain: &Domain,
+    run_boundary: RunBoundary,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    check_options(opts)?;
     let kb_before = kb.stats;
     let t0 = std::time::Instant::now();
-    let mut m = start_mesher(domain, kb, opts.size)?;
+    let RunBoundary { disc, size, area } = run_boundary;
+    let prepared = mesher::Prepared::new(kb, disc, size, area)?;
+    let mut m = mesher::Mesher::start_from(kb, prepared);
     m.record_trace = opts.trace;
     let prepare = t0.elapsed().as_secs_f64();
     let by_rules = m.run(progress).map_err(Error::from).and_then(|()| {

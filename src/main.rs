@@ -199,13 +199,25 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     let domains = expand_globs(&args.domains)?;
     if domains.len() == 1 {
         let outputs: Vec<(PathBuf, Format)> = args.outputs.iter().cloned().zip(formats).collect();
-        let mut kb = load_kb(&args.kb)?;
+        // the domain is read and its boundary made ready while the engine
+        // loads (the engine cannot move between threads; these can)
+        let (kb, early) = std::thread::scope(|scope| {
+            let early = scope.spawn(|| read_and_discretise(&domains[0], &args));
+            let kb = load_kb(&args.kb);
+            let early = early
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+            (kb, early)
+        });
+        let mut kb = kb?;
+        let early = early?;
         // one domain: a core to spare answers part of the KB's questions
         if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
             kb.start_second_engine();
         }
         let done = mesh_one(
             &domains[0],
+            Some(early),
             &outputs,
             args.trace.as_deref(),
             &mut kb,
@@ -261,7 +273,9 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
                         .zip(formats.iter().copied())
                         .collect();
                     let trace = args.trace.as_ref().map(fill);
-                    if let Err(e) = mesh_one(d, &outputs, trace.as_deref(), &mut kb, &args, false) {
+                    if let Err(e) =
+                        mesh_one(d, None, &outputs, trace.as_deref(), &mut kb, &args, false)
+                    {
                         bar.suspend(|| {
                             eprintln!("error: {}: {}", d.display(), one_line(&format!("{e:#}")))
                         });
@@ -322,9 +336,21 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// Meshes one domain into its outputs, with a summary line on stderr.
+/// A domain file read, and its boundary made ready for a run.
+fn read_and_discretise(
+    path: &std::path::Path,
+    args: &cli::MeshArgs,
+) -> Result<(Domain, freemesh::RunBoundary)> {
+    let domain = Domain::from_file(&path.to_string_lossy())?;
+    let boundary = freemesh::discretise_for_run(&domain, args.size)?;
+    Ok((domain, boundary))
+}
+
+/// Meshes one domain into its outputs, with a summary line on stderr;
+/// `early` is the domain read and its boundary made ready, if it was.
 fn mesh_one(
     path: &std::path::Path,
+    early: Option<(Domain, freemesh::RunBoundary)>,
     outputs: &[(PathBuf, Format)],
     trace_path: Option<&std::path::Path>,
     kb: &mut KnowledgeBase,
@@ -332,7 +358,10 @@ fn mesh_one(
     show_progress: bool,
 ) -> Result<()> {
     let t0 = Instant::now();
-    let domain = Domain::from_file(&path.to_string_lossy())?;
+    let (domain, early_boundary) = match early {
+        Some((d, b)) => (d, Some(b)),
+        None => (Domain::from_file(&path.to_string_lossy())?, None),
+    };
     warn_unknown_keys(&domain, path);
     let opts = Options::default()
         .with_size(args.size)
@@ -354,7 +383,10 @@ fn mesh_one(
             b.set_position(quads as u64);
         }
     };
-    let result = mesh_domain(&domain, kb, &opts, &mut progress);
+    let result = match early_boundary {
+        Some(b) => freemesh::mesh_boundary(&domain, b, kb, &opts, &mut progress),
+        None => mesh_domain(&domain, kb, &opts, &mut progress),
+    };
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
