@@ -283,6 +283,7 @@ impl KnowledgeBase {
                 });
             }
         }
+        kb.run("assertz(fm_only_built_in_rules_).")?;
         Ok(kb)
     }
 
@@ -334,6 +335,7 @@ impl KnowledgeBase {
         if !text.ends_with('.') {
             text.push_str(" .");
         }
+        self.trust_rules_no_more();
         let codes: Vec<String> = text.chars().map(|c| (c as u32).to_string()).collect();
         let q = format!("fm_repl_query([{}], {limit}, A).", codes.join(","));
         for answer in self.machine.run_query(q) {
@@ -386,6 +388,14 @@ impl KnowledgeBase {
             ans.into_iter().next().and_then(|mut b| b.remove("R")),
             context,
         )
+    }
+
+    /// From now on the mesher's questions are bounded by the inference
+    /// limit: rules other than the built-in ones may come in (a user's
+    /// file or query), and one of them may run away.
+    fn trust_rules_no_more(&mut self) {
+        // a query the loader defines: it cannot fail to run
+        let _ = self.run("retractall(fm_only_built_in_rules_).");
     }
 
     /// Drops the memoised answers (the rules may have changed, so a
@@ -477,6 +487,7 @@ impl KnowledgeBase {
             path: path.into(),
             message: e.to_string(),
         })?;
+        self.trust_rules_no_more();
         let settings = format!("[{}]", SETTINGS.join(", "));
         let q = format!(
             "fm_consult({}, {}, R).",
@@ -582,5 +593,35 @@ fn fault_to_error(ans: Option<Term>, context: &str) -> Result<Option<Term>, KbEr
             })
         }
         _ => Ok(ans),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DESIGN_B1: &str = "fm_design(ctx(180, 180, 180, 180, 180, 1.0, 1.0), R).";
+
+    #[test]
+    fn a_rule_a_users_query_adds_is_bounded_again() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        // the built-in rules alone answer unbounded
+        assert!(!kb.run("fm_only_built_in_rules_.").unwrap().is_empty());
+        assert!(kb.ask_bounded_fresh(DESIGN_B1, "ctx").unwrap().is_some());
+        let mut answered = false;
+        kb.user_query("asserta((feature(b1, _) :- repeat, fail))", 1000, &mut |_| {
+            answered = true;
+            false
+        });
+        assert!(answered);
+        let e = kb.ask_bounded_fresh(DESIGN_B1, "ctx").unwrap_err().to_string();
+        assert!(e.contains("ran past the inference limit"), "{e}");
+    }
+
+    #[test]
+    fn a_users_file_makes_the_questions_bounded() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.consult_file("tests/kb/strategy-b2-first.pl").unwrap();
+        assert!(kb.run("fm_only_built_in_rules_.").unwrap().is_empty());
     }
 }
