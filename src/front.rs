@@ -215,6 +215,11 @@ impl Front {
         )
     }
 
+    /// Room for `more` occurrences without growing.
+    pub fn reserve(&mut self, more: usize) {
+        self.occ.reserve(more);
+    }
+
     /// Indexes every live edge (call once after building, with positions).
     pub fn index_all(&mut self, pos: &[DVec2]) {
         self.grid.clear();

@@ -320,16 +320,18 @@ impl<'k> Mesher<'k> {
         let mut mesh = disc.mesh;
         mesh.quads.reserve(expected + expected / 8);
         mesh.nodes.reserve(expected + expected / 8);
+        front.reserve(expected + expected / 8);
+        let keys = 2 * (expected + expected / 8);
         Mesher {
             kb,
             mesh,
             front,
             set,
-            version: Vec::new(),
-            angle_seen: Vec::new(),
+            version: Vec::with_capacity(keys),
+            angle_seen: Vec::with_capacity(keys / 2),
             refresh_stamp: 0,
-            failed: Vec::new(),
-            design: Vec::new(),
+            failed: Vec::with_capacity(keys),
+            design: Vec::with_capacity(keys),
             designed_edges: 0,
             design_memo: HashMap::with_capacity_and_hasher(expected / 2, Default::default()),
             known: Vec::with_capacity(expected / 2),
@@ -718,7 +720,7 @@ impl<'k> Mesher<'k> {
         if !self.started {
             self.start()?;
         }
-        if self.heap.len() > 4096 && self.heap.len() > 3 * self.designed_edges {
+        if self.heap.len() > 4096 && self.heap.len() > 2 * self.designed_edges {
             self.prune_queue();
         }
         while let Some(Reverse(c)) = self.heap.pop() {
