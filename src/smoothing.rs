@@ -7,7 +7,7 @@
 
 use glam::DVec2;
 
-use crate::geometry::{orient2d, quad_angles};
+use crate::geometry::{interior_angle, orient2d};
 use crate::mesh::{Mesh, NodeKind};
 
 /// For each node, the elements that use it and the node's corner index.
@@ -40,9 +40,29 @@ fn badness(q: [DVec2; 4]) -> f64 {
     if inside {
         return 0.0;
     }
-    quad_angles(q)
-        .iter()
-        .map(|&a| (45.0 - a).max(a - 135.0).max(0.0))
+    worst_excess(q)
+}
+
+/// The angle of corner `i` of an element in degrees, as `quad_angles`
+/// measures it, or None when the corner is clearly inside [45, 135]:
+/// told without trigonometry, with a margin so that the answer is the
+/// same as measuring it.
+fn angle_unless_inside(q: &[DVec2; 4], i: usize) -> Option<f64> {
+    let a = q[(i + 1) % 4] - q[i];
+    let b = q[(i + 3) % 4] - q[i];
+    let d = a.dot(b);
+    if a.perp_dot(b) > 0.0 && 2.0 * d * d < (1.0 - 1e-9) * a.length_squared() * b.length_squared()
+    {
+        return None;
+    }
+    Some(interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees())
+}
+
+/// How far the worst corner of an element is past [45, 135] (degrees).
+fn worst_excess(q: [DVec2; 4]) -> f64 {
+    (0..4)
+        .filter_map(|i| angle_unless_inside(&q, i))
+        .map(|a| (45.0 - a).max(a - 135.0).max(0.0))
         .fold(0.0, f64::max)
 }
 
@@ -306,14 +326,7 @@ fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
         inside &= 2.0 * d * d <= a.length_squared() * b.length_squared();
         min_sin = min_sin.min(unit[i].perp_dot(-unit[(i + 3) % 4]));
     }
-    let bad = if inside {
-        0.0
-    } else {
-        quad_angles(q)
-            .iter()
-            .map(|&a| (45.0 - a).max(a - 135.0).max(0.0))
-            .fold(0.0, f64::max)
-    };
+    let bad = if inside { 0.0 } else { worst_excess(q) };
     Some((bad, min_sin))
 }
 
@@ -456,9 +469,10 @@ fn corners_outside(mesh: &Mesh, around: &[(u32, u8)]) -> usize {
     around
         .iter()
         .map(|&(q, _)| {
-            quad_angles(mesh.quad_points(q as usize))
-                .iter()
-                .filter(|a| !(45.0..=135.0).contains(*a))
+            let p = mesh.quad_points(q as usize);
+            (0..4)
+                .filter_map(|i| angle_unless_inside(&p, i))
+                .filter(|a| !(45.0..=135.0).contains(a))
                 .count()
         })
         .sum()
@@ -610,6 +624,7 @@ fn even_out_sweeps(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::quad_angles;
 
     /// Four unit squares round one free centre node (id 4).
     fn two_by_two_block() -> Mesh {
