@@ -609,12 +609,19 @@ mod tests {
         assert!(!kb.run("fm_only_built_in_rules_.").unwrap().is_empty());
         assert!(kb.ask_bounded_fresh(DESIGN_B1, "ctx").unwrap().is_some());
         let mut answered = false;
-        kb.user_query("asserta((feature(b1, _) :- repeat, fail))", 1000, &mut |_| {
-            answered = true;
-            false
-        });
+        kb.user_query(
+            "asserta((feature(b1, _) :- repeat, fail))",
+            1000,
+            &mut |_| {
+                answered = true;
+                false
+            },
+        );
         assert!(answered);
-        let e = kb.ask_bounded_fresh(DESIGN_B1, "ctx").unwrap_err().to_string();
+        let e = kb
+            .ask_bounded_fresh(DESIGN_B1, "ctx")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("ran past the inference limit"), "{e}");
     }
 

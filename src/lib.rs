@@ -20,6 +20,7 @@
 
 pub mod boundary;
 pub mod check;
+pub mod cleanup;
 pub mod design;
 pub mod domain;
 pub mod front;
@@ -327,7 +328,7 @@ pub fn finish(
 fn finish_mesh(
     mut mesh: Mesh,
     mut trace: Vec<TraceStep>,
-    stats: MeshStats,
+    mut stats: MeshStats,
     area: f64,
     opts: &Options,
     kb_before: kb::KbStats,
@@ -352,6 +353,32 @@ fn finish_mesh(
     }
     let t0 = std::time::Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes);
+    // where smoothing could not reach the bounds: the elements joined
+    // up anew, and the nodes round the changes smoothed again
+    let (cleaned, touched) = cleanup::clean_up(&mut mesh);
+    stats.cleanup_flips = cleaned.flips;
+    stats.cleanup_collapses = cleaned.collapses;
+    if !touched.is_empty() {
+        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
+    }
+    if cleaned.collapses > 0 {
+        let map = mesh.compact();
+        let remap = |x: i64| {
+            if x < 0 {
+                return x;
+            }
+            map.get(x as usize)
+                .copied()
+                .flatten()
+                .map_or(-1, |n| n as i64)
+        };
+        for t in &mut trace {
+            t.edge = t.edge.map(remap);
+            for n in &mut t.element {
+                *n = remap(*n);
+            }
+        }
+    }
     let smoothing = t0.elapsed().as_secs_f64();
     // both only read the mesh: side by side
     let (checked, quality) = std::thread::scope(|scope| {

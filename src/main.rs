@@ -444,6 +444,10 @@ fn mesh_one(
                 k.second_engine_time.as_secs_f64()
             );
         }
+        eprintln!(
+            "{}: clean-up {} edge flips, {} element collapses",
+            domain.name, result.stats.cleanup_flips, result.stats.cleanup_collapses
+        );
         let ph = &result.phases;
         eprintln!(
             "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",

@@ -62,6 +62,10 @@ pub struct MeshStats {
     /// Runs the rules could not finish, meshed whole by the last resort
     /// (triangles split into quads, see triangle_fallback.rs).
     pub triangle_fallbacks: usize,
+    /// Edges flipped by the clean-up (cleanup.rs).
+    pub cleanup_flips: usize,
+    /// Elements collapsed by the clean-up.
+    pub cleanup_collapses: usize,
 }
 
 /// A front node as the feature recognition sees it.

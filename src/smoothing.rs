@@ -51,8 +51,7 @@ fn angle_unless_inside(q: &[DVec2; 4], i: usize) -> Option<f64> {
     let a = q[(i + 1) % 4] - q[i];
     let b = q[(i + 3) % 4] - q[i];
     let d = a.dot(b);
-    if a.perp_dot(b) > 0.0 && 2.0 * d * d < (1.0 - 1e-9) * a.length_squared() * b.length_squared()
-    {
+    if a.perp_dot(b) > 0.0 && 2.0 * d * d < (1.0 - 1e-9) * a.length_squared() * b.length_squared() {
         return None;
     }
     Some(interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees())
@@ -102,9 +101,9 @@ const SEAM_BAND: usize = 3;
 /// the same on any machine. Returns the moves kept.
 fn sweep_in_strips(
     mesh: &mut Mesh,
+    around: Vec<Vec<(u32, u8)>>,
     sweep: impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync,
 ) -> usize {
-    let around = node_elements(mesh);
     let n = mesh.nodes.len();
     if n < SPLIT_FROM_NODES {
         let all: Vec<u32> = (0..n as u32).collect();
@@ -229,27 +228,91 @@ fn mark_nodes(mesh: &Mesh, quads: impl Iterator<Item = u32>, dirty: &mut [bool])
 /// large mesh strip by strip (see `sweep_in_strips`), all three on a strip
 /// before the next. Returns the moves kept.
 pub fn smooth(mesh: &mut Mesh, laplace_passes: usize) -> usize {
-    let neighbours = element_neighbours(mesh);
-    sweep_in_strips(mesh, |mesh, nodes, dirty| {
-        // each sweep starts from the nodes marked at the start
-        let start: Vec<bool> = nodes.visit.iter().map(|&i| dirty[i as usize]).collect();
-        let restart = |dirty: &mut [bool]| {
-            for (&i, &d) in nodes.visit.iter().zip(&start) {
-                dirty[i as usize] = d;
-            }
-        };
-        let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty);
-        restart(dirty);
-        moved += untangle_sweeps(mesh, 10, nodes, dirty);
-        restart(dirty);
-        moved + even_out_sweeps(mesh, 10, nodes, &neighbours, dirty)
+    let around = node_elements(mesh);
+    let neighbours = element_neighbours(mesh, &around);
+    sweep_in_strips(mesh, around, |mesh, nodes, dirty| {
+        all_sweeps(mesh, [laplace_passes, 10], nodes, &neighbours, dirty)
     })
+}
+
+/// The smoothing stage again, on the nodes within a few elements of
+/// `near` only: after a change there, the rest is as it was.
+pub fn smooth_near(mesh: &mut Mesh, laplace_passes: usize, near: &[u32]) -> usize {
+    let around = node_elements(mesh);
+    let mut band = vec![false; mesh.nodes.len()];
+    let mut visit: Vec<u32> = near.to_vec();
+    for &n in near {
+        band[n as usize] = true;
+    }
+    for _ in 0..2 {
+        let ring: Vec<u32> = visit
+            .iter()
+            .flat_map(|&n| {
+                around[n as usize]
+                    .iter()
+                    .flat_map(|&(q, _)| mesh.quads[q as usize])
+            })
+            .filter(|&m| !band[m as usize])
+            .collect();
+        for &m in &ring {
+            band[m as usize] = true;
+        }
+        visit.extend(ring);
+    }
+    visit.sort_unstable();
+    visit.dedup();
+    // the neighbours of the elements the sweeps look at, and of theirs
+    let mut neighbours = vec![[None; 4]; mesh.quads.len()];
+    let mut quads: Vec<u32> = visit
+        .iter()
+        .flat_map(|&n| around[n as usize].iter().map(|&(q, _)| q))
+        .collect();
+    for _ in 0..2 {
+        let mut more = Vec::new();
+        for &q in &quads {
+            let quad = mesh.quads[q as usize];
+            let nb: [Option<u32>; 4] =
+                std::array::from_fn(|i| across(mesh, &around, quad[i], quad[(i + 1) % 4]));
+            more.extend(nb.iter().flatten());
+            neighbours[q as usize] = nb;
+        }
+        quads = more;
+    }
+    let nodes = Nodes {
+        around: &around,
+        visit: &visit,
+    };
+    let mut dirty = band;
+    all_sweeps(mesh, [laplace_passes, 4], &nodes, &neighbours, &mut dirty)
+}
+
+/// The three sweeps of the stage in turn over `nodes`, each from the
+/// nodes marked dirty at the start: `passes` of Laplace, then of each of
+/// the others.
+fn all_sweeps(
+    mesh: &mut Mesh,
+    [laplace_passes, passes]: [usize; 2],
+    nodes: &Nodes,
+    neighbours: &[[Option<u32>; 4]],
+    dirty: &mut [bool],
+) -> usize {
+    let start: Vec<bool> = nodes.visit.iter().map(|&i| dirty[i as usize]).collect();
+    let restart = |dirty: &mut [bool]| {
+        for (&i, &d) in nodes.visit.iter().zip(&start) {
+            dirty[i as usize] = d;
+        }
+    };
+    let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty);
+    restart(dirty);
+    moved += untangle_sweeps(mesh, passes, nodes, dirty);
+    restart(dirty);
+    moved + even_out_sweeps(mesh, passes, nodes, neighbours, dirty)
 }
 
 /// `passes` sweeps of guarded Laplace smoothing; returns how many moves
 /// were kept in the last sweep.
 pub fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
-    sweep_in_strips(mesh, |mesh, nodes, dirty| {
+    sweep_in_strips(mesh, node_elements(mesh), |mesh, nodes, dirty| {
         laplace_sweeps(mesh, passes, nodes, dirty)
     })
 }
@@ -330,9 +393,42 @@ fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
     Some((bad, min_sin))
 }
 
+/// Minus the smallest sine of a corner of the elements round a node
+/// (infinite if one is not convex): the same order as `worst_around`
+/// (the corner farthest from a right angle has the smallest sine), for
+/// a fraction of its cost.
+pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        match convex_scaled_jacobian(mesh.quad_points(q as usize)) {
+            Some(s) => min_sin = min_sin.min(s),
+            None => return f64::INFINITY,
+        }
+    }
+    -min_sin
+}
+
+/// The smallest sine of a corner of a convex element, None if it is not
+/// convex (plain arithmetic: for comparing places, not for the check).
+fn convex_scaled_jacobian(q: [DVec2; 4]) -> Option<f64> {
+    let e: [DVec2; 4] = std::array::from_fn(|i| q[(i + 1) % 4] - q[i]);
+    let inv = e.map(|v| 1.0 / v.length());
+    let mut min_sin = f64::INFINITY;
+    for i in 0..4 {
+        let j = (i + 3) % 4;
+        // corner i, between e[i] and e[j] reversed
+        let cross = e[j].perp_dot(e[i]);
+        if !(cross > 0.0) {
+            return None;
+        }
+        min_sin = min_sin.min(cross * inv[i] * inv[j]);
+    }
+    Some(min_sin)
+}
+
 /// The worst corner of the elements round a node: (badness, -smallest
 /// sine of a corner), smaller is better; infinite if one is not convex.
-fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
+pub(crate) fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
@@ -365,7 +461,7 @@ fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
 /// corner round it is best; `passes` sweeps. Never makes an element worse
 /// than it was, never inverts one. Returns the moves kept.
 pub fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
-    sweep_in_strips(mesh, |mesh, nodes, dirty| {
+    sweep_in_strips(mesh, node_elements(mesh), |mesh, nodes, dirty| {
         untangle_sweeps(mesh, passes, nodes, dirty)
     })
 }
@@ -430,13 +526,26 @@ const COMPASS: [DVec2; 8] = {
 /// quarter of the shortest edge at the node. `score` judges the node where
 /// it is put (None: not allowed there); a place is taken when `better`
 /// than the best so far. The node is left where it was.
-fn compass_search<S: Copy>(
+pub(crate) fn compass_search<S: Copy>(
+    mesh: &mut Mesh,
+    n: usize,
+    around: &[(u32, u8)],
+    start: S,
+    score: impl FnMut(&Mesh) -> Option<S>,
+    better: impl Fn(S, S) -> bool,
+) -> DVec2 {
+    compass_search_steps(mesh, n, around, start, score, better, 6)
+}
+
+/// `compass_search` with `steps` halvings of the step instead of six.
+pub(crate) fn compass_search_steps<S: Copy>(
     mesh: &mut Mesh,
     n: usize,
     around: &[(u32, u8)],
     start: S,
     mut score: impl FnMut(&Mesh) -> Option<S>,
     better: impl Fn(S, S) -> bool,
+    steps: usize,
 ) -> DVec2 {
     let old = mesh.nodes[n];
     let h = around
@@ -448,7 +557,7 @@ fn compass_search<S: Copy>(
         .fold(f64::INFINITY, f64::min);
     let mut best = (start, old);
     let mut step = 0.25 * h;
-    for _ in 0..6 {
+    for _ in 0..steps {
         let centre = best.1;
         for dir in COMPASS {
             mesh.nodes[n] = centre + dir * step;
@@ -479,17 +588,19 @@ fn corners_outside(mesh: &Mesh, around: &[(u32, u8)]) -> usize {
 }
 
 /// For each element, the elements across its four edges.
-fn element_neighbours(mesh: &Mesh) -> Vec<[Option<u32>; 4]> {
-    let mut by_edge: rustc_hash::FxHashMap<(u32, u32), u32> = Default::default();
-    for (qi, q) in mesh.quads.iter().enumerate() {
-        for i in 0..4 {
-            by_edge.insert((q[i], q[(i + 1) % 4]), qi as u32);
-        }
-    }
+fn element_neighbours(mesh: &Mesh, around: &[Vec<(u32, u8)>]) -> Vec<[Option<u32>; 4]> {
     mesh.quads
         .iter()
-        .map(|q| std::array::from_fn(|i| by_edge.get(&(q[(i + 1) % 4], q[i])).copied()))
+        .map(|q| std::array::from_fn(|i| across(mesh, around, q[i], q[(i + 1) % 4])))
         .collect()
+}
+
+/// The element with the edge b -> a (the other side of the edge a -> b).
+fn across(mesh: &Mesh, around: &[Vec<(u32, u8)>], a: u32, b: u32) -> Option<u32> {
+    around[b as usize]
+        .iter()
+        .find(|&&(o, c)| mesh.quads[o as usize][(c as usize + 1) % 4] == a)
+        .map(|&(o, _)| o)
 }
 
 /// How far an element is past the paper's bounds on size and shape, as a
@@ -518,8 +629,9 @@ fn size_shape_excess(
 /// leaving [45, 135] further or getting much sharper than it was.
 /// `passes` sweeps; returns the moves kept.
 pub fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
-    let neighbours = element_neighbours(mesh);
-    sweep_in_strips(mesh, |mesh, nodes, dirty| {
+    let around = node_elements(mesh);
+    let neighbours = element_neighbours(mesh, &around);
+    sweep_in_strips(mesh, around, |mesh, nodes, dirty| {
         even_out_sweeps(mesh, passes, nodes, &neighbours, dirty)
     })
 }

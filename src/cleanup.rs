@@ -1,0 +1,645 @@
+//! Topological clean-up: where smoothing cannot bring an element's corners
+//! into [45, 135] (the way the elements meet there is wrong, not where
+//! the nodes are), the elements are joined up anew.
+//!
+//! Two operations, both keeping the mesh all-quad and conforming and the
+//! input boundary and inner lines as they are:
+//!
+//! - flip: two elements sharing an edge make a hexagon; it is split into
+//!   two elements along one of its other two diagonals;
+//! - collapse: an element is removed by joining two opposite corners
+//!   (the free one moves onto the other), its neighbours closing the gap.
+//!
+//! Each bad element, worst first, is tried with every flip of its edges
+//! and both collapses; the region round each result is smoothed locally,
+//! and the best result is kept if it makes the region's worst corner
+//! clearly better.
+
+use glam::DVec2;
+
+use crate::mesh::{Mesh, NodeKind};
+use crate::smoothing::{compass_search_steps, sine_worst_around, worst_around};
+
+/// An operation on the mesh, as the KB names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Op {
+    /// Flip the element's edge `k` (from corner k to corner k+1).
+    Flip(u8),
+    /// Join corner `k` onto the opposite corner k+2.
+    Collapse(u8),
+}
+
+/// What the clean-up did.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct CleanupStats {
+    /// Flips kept.
+    pub flips: usize,
+    /// Collapses kept.
+    pub collapses: usize,
+}
+
+/// A region's worst corner: (degrees past [45, 135], -smallest sine).
+type Worst = (f64, f64);
+
+/// The mesh with each node's elements, kept up to date through the
+/// operations; removed elements are left as holes until `finish`.
+struct Working<'m> {
+    mesh: &'m mut Mesh,
+    around: Vec<Vec<u32>>,
+    alive: Vec<bool>,
+    constrained: rustc_hash::FxHashSet<(u32, u32)>,
+}
+
+impl Working<'_> {
+    fn around_pairs(&self, n: u32) -> Vec<(u32, u8)> {
+        self.around[n as usize]
+            .iter()
+            .map(|&q| {
+                let c = self.mesh.quads[q as usize]
+                    .iter()
+                    .position(|&m| m == n)
+                    .unwrap_or(0);
+                (q, c as u8)
+            })
+            .collect()
+    }
+
+    fn set_quad(&mut self, q: u32, new: [u32; 4]) {
+        for &n in &self.mesh.quads[q as usize] {
+            self.around[n as usize].retain(|&x| x != q);
+        }
+        self.mesh.quads[q as usize] = new;
+        for &n in &new {
+            self.around[n as usize].push(q);
+        }
+    }
+
+    fn remove_quad(&mut self, q: u32) {
+        for &n in &self.mesh.quads[q as usize] {
+            self.around[n as usize].retain(|&x| x != q);
+        }
+        self.alive[q as usize] = false;
+    }
+
+    /// The worst corner over elements `qs` (infinite if one is not convex).
+    fn worst_of(&self, qs: &[u32]) -> Worst {
+        let pairs: Vec<(u32, u8)> = qs.iter().map(|&q| (q, 0)).collect();
+        worst_around(self.mesh, &pairs)
+    }
+
+    /// The elements round the nodes of elements `qs`.
+    fn region(&self, qs: &[u32]) -> Vec<u32> {
+        let mut r: Vec<u32> = qs
+            .iter()
+            .flat_map(|&q| self.mesh.quads[q as usize])
+            .flat_map(|n| self.around[n as usize].iter().copied())
+            .collect();
+        r.sort_unstable();
+        r.dedup();
+        r
+    }
+
+    /// The positions of the nodes of elements `qs`, to put back.
+    fn snapshot(&self, qs: &[u32]) -> Vec<(u32, DVec2)> {
+        let mut nodes: Vec<u32> = qs
+            .iter()
+            .flat_map(|&q| self.mesh.quads[q as usize])
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+            .into_iter()
+            .map(|n| (n, self.mesh.nodes[n as usize]))
+            .collect()
+    }
+
+    fn restore(&mut self, saved: &[(u32, DVec2)]) {
+        for &(n, p) in saved {
+            self.mesh.nodes[n as usize] = p;
+        }
+    }
+
+    /// Two sweeps of the compass search over the free ones of `nodes`.
+    fn smooth_locally(&mut self, nodes: &[u32]) {
+        for _ in 0..2 {
+            for &n in nodes {
+                if self.mesh.kinds[n as usize] != NodeKind::Interior {
+                    continue;
+                }
+                let pairs = self.around_pairs(n);
+                let start = sine_worst_around(self.mesh, &pairs);
+                let best = compass_search_steps(
+                    self.mesh,
+                    n as usize,
+                    &pairs,
+                    start,
+                    |m| Some(sine_worst_around(m, &pairs)),
+                    |w, b| w < b,
+                    COMPASS_STEPS,
+                );
+                self.mesh.nodes[n as usize] = best;
+            }
+        }
+    }
+
+    fn edge_free(&self, a: u32, b: u32) -> bool {
+        !self.constrained.contains(&(a.min(b), a.max(b)))
+    }
+
+    /// The element across edge k of element q, and where the edge is in it.
+    fn across(&self, q: u32, k: usize) -> Option<(u32, usize)> {
+        let quad = self.mesh.quads[q as usize];
+        let (a, b) = (quad[k], quad[(k + 1) % 4]);
+        self.around[a as usize].iter().find_map(|&o| {
+            if o == q {
+                return None;
+            }
+            let oq = self.mesh.quads[o as usize];
+            (0..4)
+                .find(|&j| oq[j] == b && oq[(j + 1) % 4] == a)
+                .map(|j| (o, j))
+        })
+    }
+
+    /// The two other splits of the hexagon of q and the element across
+    /// its edge k: (q's new nodes, the other's new nodes) each.
+    fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
+        let quad = self.mesh.quads[q as usize];
+        let (u, v) = (quad[k], quad[(k + 1) % 4]);
+        if !self.edge_free(u, v) {
+            return None;
+        }
+        let (o, j) = self.across(q, k)?;
+        let oq = self.mesh.quads[o as usize];
+        // the hexagon, counter-clockwise, from v round q to u, round o
+        let h = [
+            v,
+            quad[(k + 2) % 4],
+            quad[(k + 3) % 4],
+            u,
+            oq[(j + 2) % 4],
+            oq[(j + 3) % 4],
+        ];
+        let mut seen = h.to_vec();
+        seen.sort_unstable();
+        seen.dedup();
+        if seen.len() < 6 {
+            return None;
+        }
+        let split = |d: usize| {
+            let i = |x: usize| h[(d + x) % 6];
+            [[i(0), i(1), i(2), i(3)], [i(3), i(4), i(5), i(0)]]
+        };
+        Some((o, [split(1), split(2)]))
+    }
+
+    /// Element q without corner k, joined onto corner k+2: the elements
+    /// changed (with their new nodes) and where the kept node goes; None
+    /// when it would spoil the boundary or the mesh.
+    fn collapse(&self, q: u32, k: usize) -> Option<(Vec<(u32, [u32; 4])>, u32, DVec2)> {
+        let quad = self.mesh.quads[q as usize];
+        let (gone, kept) = (quad[k], quad[(k + 2) % 4]);
+        let kinds = &self.mesh.kinds;
+        if kinds[gone as usize] != NodeKind::Interior {
+            return None;
+        }
+        if (0..4).any(|i| !self.edge_free(quad[i], quad[(i + 1) % 4])) {
+            return None;
+        }
+        // the two other corners keep an element each besides q
+        for side in [quad[(k + 1) % 4], quad[(k + 3) % 4]] {
+            if self.around[side as usize].len() < 2 {
+                return None;
+            }
+        }
+        let to = if kinds[kept as usize] == NodeKind::Interior {
+            (self.mesh.nodes[gone as usize] + self.mesh.nodes[kept as usize]) / 2.0
+        } else {
+            self.mesh.nodes[kept as usize]
+        };
+        let mut changed = Vec::new();
+        for &o in &self.around[gone as usize] {
+            if o == q {
+                continue;
+            }
+            let oq = self.mesh.quads[o as usize];
+            if oq.contains(&kept) {
+                return None; // it would lose a corner
+            }
+            changed.push((o, oq.map(|n| if n == gone { kept } else { n })));
+        }
+        Some((changed, kept, to))
+    }
+}
+
+/// A change the clean-up may make, with what undoes it.
+#[derive(Debug, Clone)]
+enum Change {
+    /// Elements q and o get new nodes.
+    Flip {
+        q: u32,
+        o: u32,
+        old: [[u32; 4]; 2],
+        new: [[u32; 4]; 2],
+    },
+    /// Element q goes, node `gone` joins `kept` (moved to `to`).
+    Collapse {
+        q: u32,
+        kept: u32,
+        to: DVec2,
+        changed: Vec<(u32, [u32; 4], [u32; 4])>,
+    },
+}
+
+impl Change {
+    /// The elements it changes, as they are once it is made.
+    fn changed(&self) -> Vec<u32> {
+        match self {
+            Change::Flip { q, o, .. } => vec![*q, *o],
+            Change::Collapse { changed, .. } => changed.iter().map(|c| c.0).collect(),
+        }
+    }
+
+    /// The elements whose corners it changes, before it is made.
+    fn region(&self, w: &Working) -> Vec<u32> {
+        match self {
+            Change::Flip { q, o, .. } => w.region(&[*q, *o]),
+            Change::Collapse { q, .. } => w.region(&[*q]),
+        }
+    }
+
+    fn apply(&self, w: &mut Working) {
+        match self {
+            Change::Flip { q, o, new, .. } => {
+                w.set_quad(*q, new[0]);
+                w.set_quad(*o, new[1]);
+            }
+            Change::Collapse {
+                q,
+                kept,
+                to,
+                changed,
+            } => {
+                w.remove_quad(*q);
+                for &(o, _, new) in changed {
+                    w.set_quad(o, new);
+                }
+                w.mesh.nodes[*kept as usize] = *to;
+            }
+        }
+    }
+
+    /// Undoes `apply` (node positions are put back by the caller).
+    fn revert(&self, w: &mut Working) {
+        match self {
+            Change::Flip { q, o, old, .. } => {
+                w.set_quad(*q, old[0]);
+                w.set_quad(*o, old[1]);
+            }
+            Change::Collapse { q, changed, .. } => {
+                for &(o, old, _) in changed {
+                    w.set_quad(o, old);
+                }
+                w.alive[*q as usize] = true;
+                for n in w.mesh.quads[*q as usize] {
+                    w.around[n as usize].push(*q);
+                }
+            }
+        }
+    }
+
+    /// The nodes to smooth once it is made.
+    fn nodes(&self, w: &Working) -> Vec<u32> {
+        let mut nodes: Vec<u32> = match self {
+            Change::Flip { new, .. } => new.concat(),
+            Change::Collapse { kept, .. } => w.around[*kept as usize]
+                .iter()
+                .flat_map(|&o| w.mesh.quads[o as usize])
+                .collect(),
+        };
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+}
+
+/// The changes operation `op` can make on element q.
+fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
+    match op {
+        Op::Flip(k) => match w.flips(q, k as usize) {
+            Some((o, splits)) => splits
+                .into_iter()
+                .map(|new| Change::Flip {
+                    q,
+                    o,
+                    old: [w.mesh.quads[q as usize], w.mesh.quads[o as usize]],
+                    new,
+                })
+                .collect(),
+            None => Vec::new(),
+        },
+        Op::Collapse(k) => match w.collapse(q, k as usize) {
+            Some((changed, kept, to)) => vec![Change::Collapse {
+                q,
+                kept,
+                to,
+                changed: changed
+                    .into_iter()
+                    .map(|(o, new)| (o, w.mesh.quads[o as usize], new))
+                    .collect(),
+            }],
+            None => Vec::new(),
+        },
+    }
+}
+
+/// The compass search's step halvings when a change is judged (the
+/// smoothing after the clean-up refines the kept ones).
+const COMPASS_STEPS: usize = 4;
+
+/// How many of an element's changes, best first as they are made, are
+/// smoothed and judged in full.
+const JUDGED: usize = 2;
+
+/// The operations tried on every bad element.
+const OPS: [Op; 8] = [
+    Op::Flip(0),
+    Op::Flip(1),
+    Op::Flip(2),
+    Op::Flip(3),
+    Op::Collapse(0),
+    Op::Collapse(1),
+    Op::Collapse(2),
+    Op::Collapse(3),
+];
+
+impl<'m> Working<'m> {
+    fn new(mesh: &'m mut Mesh) -> Working<'m> {
+        let mut constrained = rustc_hash::FxHashSet::default();
+        for e in &mesh.boundary {
+            constrained.insert((e.a.min(e.b), e.a.max(e.b)));
+        }
+        let alive = vec![true; mesh.quads.len()];
+        let mut w = Working {
+            mesh,
+            around: Vec::new(),
+            alive,
+            constrained,
+        };
+        w.index();
+        w
+    }
+
+    /// Each node's live elements, worked out afresh.
+    fn index(&mut self) {
+        let mut around = vec![Vec::new(); self.mesh.nodes.len()];
+        for (q, quad) in self.mesh.quads.iter().enumerate() {
+            if self.alive[q] {
+                for &n in quad {
+                    around[n as usize].push(q as u32);
+                }
+            }
+        }
+        self.around = around;
+    }
+}
+
+/// Cleans up the elements with a corner outside [45, 135]; returns what
+/// it did and the nodes round the changes (to be smoothed again).
+pub fn clean_up(mesh: &mut Mesh) -> (CleanupStats, Vec<u32>) {
+    let mut stats = CleanupStats::default();
+    let mut touched: Vec<u32> = Vec::new();
+    let mut w = Working::new(mesh);
+    let all: Vec<u32> = (0..w.mesh.quads.len() as u32).collect();
+    rounds(&mut w, all, &mut stats, &mut touched);
+    // the collapsed elements' slots go
+    let Working { mesh, alive, .. } = w;
+    let mut k = 0;
+    mesh.quads.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
+    touched.sort_unstable();
+    touched.dedup();
+    (stats, touched)
+}
+
+/// Up to three rounds over the bad elements among `look_at`, worst first
+/// (the next rounds look near the changes made): each gets the best
+/// change, if one is clearly better.
+fn rounds(
+    w: &mut Working,
+    mut look_at: Vec<u32>,
+    stats: &mut CleanupStats,
+    touched: &mut Vec<u32>,
+) {
+    for _round in 0..3 {
+        let mut bad: Vec<(f64, u32)> = look_at
+            .iter()
+            .filter(|&&q| w.alive[q as usize])
+            .map(|&q| (w.worst_of(&[q]).0, q))
+            .filter(|&(b, _)| b > 0.0)
+            .collect();
+        bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let mut next: Vec<u32> = Vec::new();
+        for (_, q) in bad {
+            if !w.alive[q as usize] || w.worst_of(&[q]).0 <= 0.0 {
+                continue;
+            }
+            let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
+            if let Some(done) = best_change(w, candidates) {
+                match done {
+                    Change::Flip { .. } => stats.flips += 1,
+                    Change::Collapse { .. } => stats.collapses += 1,
+                }
+                let nodes = done.nodes(w);
+                touched.extend(&nodes);
+                next.extend(
+                    nodes
+                        .iter()
+                        .flat_map(|&n| w.around[n as usize].iter().copied()),
+                );
+            }
+        }
+        if next.is_empty() {
+            break;
+        }
+        next.sort_unstable();
+        next.dedup();
+        look_at = next;
+    }
+}
+
+/// Makes the best of `candidates` if it makes its region's worst corner
+/// clearly better: each is judged as made (cheap), the best few again
+/// after smoothing round it.
+fn best_change(w: &mut Working, candidates: Vec<Change>) -> Option<Change> {
+    // as made: the changed elements only, by their smallest sine
+    let mut raw: Vec<(f64, usize)> = Vec::new();
+    for (i, c) in candidates.iter().enumerate() {
+        let kept_at = match c {
+            Change::Collapse { kept, .. } => Some((*kept, w.mesh.nodes[*kept as usize])),
+            Change::Flip { .. } => None,
+        };
+        c.apply(w);
+        let changed: Vec<(u32, u8)> = c.changed().iter().map(|&q| (q, 0)).collect();
+        raw.push((sine_worst_around(w.mesh, &changed), i));
+        c.revert(w);
+        if let Some((n, p)) = kept_at {
+            w.mesh.nodes[n as usize] = p;
+        }
+    }
+    raw.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut best: Option<(Worst, usize, Vec<(u32, DVec2)>)> = None;
+    for &(_, i) in raw.iter().take(JUDGED) {
+        let c = &candidates[i];
+        let region = c.region(w);
+        let mut after_region = region.clone();
+        if let Change::Collapse { q, .. } = c {
+            after_region.retain(|r| r != q);
+        }
+        let saved = w.snapshot(&region);
+        let (region, after_region, saved) = (&region, &after_region, &saved);
+        let before = w.worst_of(region);
+        c.apply(w);
+        let nodes = c.nodes(w);
+        w.smooth_locally(&nodes);
+        let after = w.worst_of(after_region);
+        if clearly_better(after, before) && best.as_ref().is_none_or(|b| after < b.0) {
+            best = Some((after, i, w.snapshot(after_region)));
+        }
+        c.revert(w);
+        w.restore(saved);
+    }
+    let (_, i, moved) = best?;
+    let c = candidates[i].clone();
+    c.apply(w);
+    w.restore(&moved);
+    Some(c)
+}
+
+fn clearly_better(after: Worst, before: Worst) -> bool {
+    after.0.is_finite()
+        && (after.0 < before.0 - 0.5 || (after.0 <= before.0 && after.1 < before.1 - 0.05))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::quad_angles;
+    use crate::mesh::BoundaryEdge;
+
+    /// How far the worst corner of the mesh is past [45, 135] (degrees).
+    fn worst_corner(m: &Mesh) -> f64 {
+        (0..m.quads.len())
+            .flat_map(|q| quad_angles(m.quad_points(q)))
+            .map(|a| (45.0 - a).max(a - 135.0))
+            .fold(f64::MIN, f64::max)
+    }
+
+    /// A hexagon of fixed nodes split into two elements along its diagonal
+    /// 0-3 (corners of 34 degrees), which the split 2-5 would not have
+    /// (59 to 121 degrees); the hexagon's sides are input edges.
+    fn badly_split_hexagon() -> Mesh {
+        let mut m = Mesh::default();
+        for (x, y) in [
+            (0.0, 0.0),
+            (3.0, 0.0),
+            (3.6, 1.0),
+            (3.0, 2.0),
+            (0.0, 2.0),
+            (-0.6, 1.0),
+        ] {
+            m.add_node(DVec2::new(x, y), NodeKind::Boundary);
+        }
+        m.quads = vec![[0, 1, 2, 3], [3, 4, 5, 0]];
+        for k in 0..6u32 {
+            m.boundary.push(BoundaryEdge {
+                a: k,
+                b: (k + 1) % 6,
+                group: 0,
+            });
+        }
+        m
+    }
+
+    #[test]
+    fn a_bad_split_is_flipped_unless_its_edge_is_an_input_line() {
+        let mut m = badly_split_hexagon();
+        let area = m.area();
+        assert!(worst_corner(&m) > 10.0);
+        let (stats, _) = clean_up(&mut m);
+        assert_eq!((stats.flips, stats.collapses), (1, 0));
+        assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
+        assert!((m.area() - area).abs() < 1e-12);
+        let mut diagonals: Vec<(u32, u32)> = m
+            .quads
+            .iter()
+            .flat_map(|q| (0..4).map(move |i| (q[i].min(q[(i + 1) % 4]), q[i].max(q[(i + 1) % 4]))))
+            .filter(|&(a, b)| b - a == 3)
+            .collect();
+        diagonals.dedup();
+        assert_eq!(diagonals, vec![(2, 5)]);
+        // the same with the diagonal 0-3 an inner line: it stays
+        let mut m = badly_split_hexagon();
+        m.boundary.push(BoundaryEdge {
+            a: 0,
+            b: 3,
+            group: 1,
+        });
+        let (stats, _) = clean_up(&mut m);
+        assert_eq!(stats.flips, 0);
+        assert_eq!(m.quads, vec![[0, 1, 2, 3], [3, 4, 5, 0]]);
+    }
+
+    /// Three by three unit squares (nodes 0..16), the middle element made
+    /// a sliver by pulling two of its free corners together.
+    fn grid_with_sliver() -> Mesh {
+        let mut m = Mesh::default();
+        for y in 0..4 {
+            for x in 0..4 {
+                let inner = (1..3).contains(&x) && (1..3).contains(&y);
+                let kind = if inner {
+                    NodeKind::Interior
+                } else {
+                    NodeKind::Boundary
+                };
+                m.add_node(DVec2::new(x as f64, y as f64), kind);
+            }
+        }
+        let id = |x: u32, y: u32| y * 4 + x;
+        for y in 0..3 {
+            for x in 0..3 {
+                m.quads
+                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        // the middle element: corners 5, 6, 10, 9; 5 and 10 pulled together
+        m.nodes[5] = DVec2::new(1.45, 1.45);
+        m.nodes[10] = DVec2::new(1.55, 1.55);
+        m
+    }
+
+    #[test]
+    fn a_sliver_is_cleaned_up_keeping_the_area_and_the_boundary() {
+        let mut m = grid_with_sliver();
+        let area = m.area();
+        let before = worst_corner(&m);
+        assert!(before > 30.0, "a sliver: {before}");
+        let boundary: Vec<DVec2> = (0..16)
+            .filter(|&i| m.kinds[i] == NodeKind::Boundary)
+            .map(|i| m.nodes[i])
+            .collect();
+        let (stats, touched) = clean_up(&mut m);
+        assert!(stats.flips + stats.collapses > 0);
+        assert!(!touched.is_empty());
+        assert!(worst_corner(&m) < before - 0.5);
+        assert!((m.area() - area).abs() < 1e-9);
+        let after: Vec<DVec2> = (0..16)
+            .filter(|&i| m.kinds[i] == NodeKind::Boundary)
+            .map(|i| m.nodes[i])
+            .collect();
+        assert_eq!(after, boundary);
+        crate::check::check_mesh(&m, area).unwrap();
+    }
+}
