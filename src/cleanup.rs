@@ -518,9 +518,13 @@ fn best_change(w: &mut Working, candidates: Vec<Change>) -> Option<Change> {
     Some(c)
 }
 
+/// Half a degree better, or every corner brought into the bounds, or
+/// (with none worse) a smallest sine clearly larger.
 fn clearly_better(after: Worst, before: Worst) -> bool {
     after.0.is_finite()
-        && (after.0 < before.0 - 0.5 || (after.0 <= before.0 && after.1 < before.1 - 0.05))
+        && (after.0 < before.0 - 0.5
+            || (after.0 == 0.0 && before.0 > 0.0)
+            || (after.0 <= before.0 && after.1 < before.1 - 0.05))
 }
 
 #[cfg(test)]
