@@ -325,16 +325,9 @@ pub fn finish(
     finish_mesh(mesh, trace, m.stats, m.area, opts, kb_before, kb_after)
 }
 
-fn finish_mesh(
-    mut mesh: Mesh,
-    mut trace: Vec<TraceStep>,
-    mut stats: MeshStats,
-    area: f64,
-    opts: &Options,
-    kb_before: kb::KbStats,
-    kb_after: kb::KbStats,
-) -> Result<MeshResult, Error> {
-    check::check_boundary_followed(&mesh)?;
+/// Drops the nodes no element uses; the trace's node ids follow (-1 for
+/// a node that is gone).
+fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
     let map = mesh.compact();
     let remap = |x: i64| {
         if x < 0 {
@@ -345,12 +338,25 @@ fn finish_mesh(
             .flatten()
             .map_or(-1, |n| n as i64)
     };
-    for t in &mut trace {
+    for t in trace {
         t.edge = t.edge.map(remap);
         for n in &mut t.element {
             *n = remap(*n);
         }
     }
+}
+
+fn finish_mesh(
+    mut mesh: Mesh,
+    mut trace: Vec<TraceStep>,
+    mut stats: MeshStats,
+    area: f64,
+    opts: &Options,
+    kb_before: kb::KbStats,
+    kb_after: kb::KbStats,
+) -> Result<MeshResult, Error> {
+    check::check_boundary_followed(&mesh)?;
+    compact_with_trace(&mut mesh, &mut trace);
     let t0 = std::time::Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes);
     // where smoothing could not reach the bounds: the elements joined
@@ -362,22 +368,7 @@ fn finish_mesh(
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
     }
     if cleaned.collapses > 0 {
-        let map = mesh.compact();
-        let remap = |x: i64| {
-            if x < 0 {
-                return x;
-            }
-            map.get(x as usize)
-                .copied()
-                .flatten()
-                .map_or(-1, |n| n as i64)
-        };
-        for t in &mut trace {
-            t.edge = t.edge.map(remap);
-            for n in &mut t.element {
-                *n = remap(*n);
-            }
-        }
+        compact_with_trace(&mut mesh, &mut trace);
     }
     let smoothing = t0.elapsed().as_secs_f64();
     // both only read the mesh: side by side
