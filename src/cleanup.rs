@@ -265,10 +265,12 @@ enum Change {
         old: [[u32; 4]; 2],
         new: [[u32; 4]; 2],
     },
-    /// Element q goes, node `gone` joins `kept` (moved to `to`).
+    /// Element q goes, node `gone` joins `kept` (moved from `from` to
+    /// `to`).
     Collapse {
         q: u32,
         kept: u32,
+        from: DVec2,
         to: DVec2,
         changed: Vec<(u32, [u32; 4], [u32; 4])>,
     },
@@ -302,6 +304,7 @@ impl Change {
                 kept,
                 to,
                 changed,
+                ..
             } => {
                 w.remove_quad(*q);
                 for &(o, _, new) in changed {
@@ -312,17 +315,24 @@ impl Change {
         }
     }
 
-    /// Undoes `apply` (node positions are put back by the caller).
+    /// Undoes `apply` (nodes smoothed since are put back by the caller).
     fn revert(&self, w: &mut Working) {
         match self {
             Change::Flip { q, o, old, .. } => {
                 w.set_quad(*q, old[0]);
                 w.set_quad(*o, old[1]);
             }
-            Change::Collapse { q, changed, .. } => {
+            Change::Collapse {
+                q,
+                kept,
+                from,
+                changed,
+                ..
+            } => {
                 for &(o, old, _) in changed {
                     w.set_quad(o, old);
                 }
+                w.mesh.nodes[*kept as usize] = *from;
                 w.alive[*q as usize] = true;
                 for n in w.mesh.quads[*q as usize] {
                     w.around[n as usize].push(*q);
@@ -365,6 +375,7 @@ fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
             Some((changed, kept, to)) => vec![Change::Collapse {
                 q,
                 kept,
+                from: w.mesh.nodes[kept as usize],
                 to,
                 changed: changed
                     .into_iter()
@@ -471,13 +482,20 @@ fn rounds(
                 continue;
             }
             let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
-            if let Some(done) = best_change(w, candidates) {
-                match done {
-                    Change::Flip { .. } => stats.flips += 1,
-                    Change::Collapse { .. } => stats.collapses += 1,
-                }
-                let nodes = done.nodes(w);
-                touched.extend(&nodes);
+            // ranked by the changed elements' smallest sine; kept if the
+            // region's worst corner gets clearly better
+            let done = best_change(
+                w,
+                candidates,
+                |w, changed| {
+                    let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
+                    sine_worst_around(w.mesh, &pairs)
+                },
+                |w, region| w.worst_of(region),
+                |before, after| clearly_better(after, before).then_some(after),
+            );
+            if let Some(done) = done {
+                let nodes = record(w, &done, stats, touched);
                 next.extend(
                     nodes
                         .iter()
@@ -510,81 +528,60 @@ fn shape_round(w: &mut Working, stats: &mut CleanupStats, touched: &mut Vec<u32>
             continue;
         }
         let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
-        // as made, the changed elements' excess; the best few judged in full
-        let mut raw: Vec<(f64, usize)> = Vec::new();
-        for (i, c) in candidates.iter().enumerate() {
-            let kept_at = match c {
-                Change::Collapse { kept, .. } => Some((*kept, w.mesh.nodes[*kept as usize])),
-                Change::Flip { .. } => None,
-            };
-            c.apply(w);
-            raw.push((w.shape_excess(&c.changed()), i));
-            c.revert(w);
-            if let Some((n, p)) = kept_at {
-                w.mesh.nodes[n as usize] = p;
-            }
-        }
-        raw.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut best: Option<(f64, usize, Vec<(u32, DVec2)>)> = None;
-        for &(_, i) in raw.iter().take(JUDGED) {
-            let c = &candidates[i];
-            let region = c.region(w);
-            let mut after_region = region.clone();
-            if let Change::Collapse { q, .. } = c {
-                after_region.retain(|r| r != q);
-            }
-            let saved = w.snapshot(&region);
-            let before = w.worst_of(&region);
-            let shape_before = w.shape_excess(&region);
-            c.apply(w);
-            let nodes = c.nodes(w);
-            w.smooth_locally(&nodes);
-            let after = w.worst_of(&after_region);
-            let shape_after = w.shape_excess(&after_region);
-            if after.0.is_finite()
-                && after.0 <= before.0
-                && shape_after < shape_before - 0.01
-                && best.as_ref().is_none_or(|b| shape_after < b.0)
-            {
-                best = Some((shape_after, i, w.snapshot(&after_region)));
-            }
-            c.revert(w);
-            w.restore(&saved);
-        }
-        if let Some((_, i, moved)) = best {
-            let c = &candidates[i];
-            c.apply(w);
-            w.restore(&moved);
-            match c {
-                Change::Flip { .. } => stats.flips += 1,
-                Change::Collapse { .. } => stats.collapses += 1,
-            }
-            touched.extend(c.nodes(w));
+        // ranked by the changed elements' excess; kept if the region's
+        // gets clearly smaller with no corner worse
+        let done = best_change(
+            w,
+            candidates,
+            |w, changed| w.shape_excess(changed),
+            |w, region| (w.worst_of(region), w.shape_excess(region)),
+            |(before, shape_before), (after, shape_after)| {
+                (after.0.is_finite() && after.0 <= before.0 && shape_after < shape_before - 0.01)
+                    .then_some(shape_after)
+            },
+        );
+        if let Some(done) = done {
+            record(w, &done, stats, touched);
         }
     }
 }
 
-/// Makes the best of `candidates` if it makes its region's worst corner
-/// clearly better: each is judged as made (cheap), the best few again
-/// after smoothing round it.
-fn best_change(w: &mut Working, candidates: Vec<Change>) -> Option<Change> {
-    // as made: the changed elements only, by their smallest sine
+/// Counts a change made and notes the nodes round it; returns them.
+fn record(
+    w: &Working,
+    done: &Change,
+    stats: &mut CleanupStats,
+    touched: &mut Vec<u32>,
+) -> Vec<u32> {
+    match done {
+        Change::Flip { .. } => stats.flips += 1,
+        Change::Collapse { .. } => stats.collapses += 1,
+    }
+    let nodes = done.nodes(w);
+    touched.extend(&nodes);
+    nodes
+}
+
+/// Makes the best of `candidates` by `accept`, if any: each is ranked
+/// as made by `quick` on the elements it changes (cheap, smaller first),
+/// the best few made again with smoothing round them and their region
+/// measured before and after; `accept` gives the score of a good one
+/// (smaller is better).
+fn best_change<M: Copy, K: PartialOrd + Copy>(
+    w: &mut Working,
+    candidates: Vec<Change>,
+    quick: impl Fn(&Working, &[u32]) -> f64,
+    measure: impl Fn(&Working, &[u32]) -> M,
+    accept: impl Fn(M, M) -> Option<K>,
+) -> Option<Change> {
     let mut raw: Vec<(f64, usize)> = Vec::new();
     for (i, c) in candidates.iter().enumerate() {
-        let kept_at = match c {
-            Change::Collapse { kept, .. } => Some((*kept, w.mesh.nodes[*kept as usize])),
-            Change::Flip { .. } => None,
-        };
         c.apply(w);
-        let changed: Vec<(u32, u8)> = c.changed().iter().map(|&q| (q, 0)).collect();
-        raw.push((sine_worst_around(w.mesh, &changed), i));
+        raw.push((quick(w, &c.changed()), i));
         c.revert(w);
-        if let Some((n, p)) = kept_at {
-            w.mesh.nodes[n as usize] = p;
-        }
     }
     raw.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut best: Option<(Worst, usize, Vec<(u32, DVec2)>)> = None;
+    let mut best: Option<(K, usize, Vec<(u32, DVec2)>)> = None;
     for &(_, i) in raw.iter().take(JUDGED) {
         let c = &candidates[i];
         let region = c.region(w);
@@ -593,17 +590,17 @@ fn best_change(w: &mut Working, candidates: Vec<Change>) -> Option<Change> {
             after_region.retain(|r| r != q);
         }
         let saved = w.snapshot(&region);
-        let (region, after_region, saved) = (&region, &after_region, &saved);
-        let before = w.worst_of(region);
+        let before = measure(w, &region);
         c.apply(w);
         let nodes = c.nodes(w);
         w.smooth_locally(&nodes);
-        let after = w.worst_of(after_region);
-        if clearly_better(after, before) && best.as_ref().is_none_or(|b| after < b.0) {
-            best = Some((after, i, w.snapshot(after_region)));
+        if let Some(score) = accept(before, measure(w, &after_region)) {
+            if best.as_ref().is_none_or(|b| score < b.0) {
+                best = Some((score, i, w.snapshot(&after_region)));
+            }
         }
         c.revert(w);
-        w.restore(saved);
+        w.restore(&saved);
     }
     let (_, i, moved) = best?;
     let c = candidates[i].clone();

@@ -431,7 +431,7 @@ impl KnowledgeBase {
     /// `ask_bounded_fresh` for each question, in order. A batch of
     /// `SPLIT_FROM` or more is shared with the second engine when there
     /// is one and it is ready: both take questions in turn.
-    pub fn ask_bounded_fresh_all(&mut self, questions: &[Question]) -> Vec<Answer> {
+    pub fn ask_bounded_fresh_all(&mut self, questions: Vec<Question>) -> Vec<Answer> {
         let ready = self.second.as_ref().and_then(SecondEngine::is_ready);
         match ready {
             Some(true) if questions.len() >= SPLIT_FROM => {
@@ -439,7 +439,7 @@ impl KnowledgeBase {
                     unreachable!("ready implies a second engine")
                 };
                 let time_before = second.time();
-                let (answers, theirs) = second.share(self, questions.to_vec());
+                let (answers, theirs) = second.share(self, questions);
                 self.stats.engine_queries += theirs;
                 self.stats.second_engine_queries += theirs;
                 // (its time on a question still running shows next time)
@@ -449,9 +449,9 @@ impl KnowledgeBase {
             }
             None if self.second.is_some() => {
                 self.second = None; // it failed to load or is gone
-                self.ask_each(questions)
+                self.ask_each(&questions)
             }
-            _ => self.ask_each(questions),
+            _ => self.ask_each(&questions),
         }
     }
 

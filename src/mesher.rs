@@ -541,7 +541,7 @@ impl<'k> Mesher<'k> {
             .iter()
             .map(|(n, _)| (design_question(n), String::new()))
             .collect();
-        let answers = self.kb.ask_bounded_fresh_all(&questions);
+        let answers = self.kb.ask_bounded_fresh_all(questions);
         for (&(nums, k), answer) in new.iter().zip(answers) {
             match self.known_design(&nums, answer) {
                 Ok(d) => self.known[k as usize] = d,
@@ -1813,28 +1813,24 @@ impl<'k> Mesher<'k> {
         let mut zipped = false;
         let mut open = vec![l];
         let mut done = Vec::new();
-        'loops: while let Some(l) = open.pop() {
-            for fv in self.front.loop_fvs(l) {
+        while let Some(l) = open.pop() {
+            // a slit (an edge there and back bounding nothing), or else a
+            // node the loop passes twice
+            let slit = self.front.loop_fvs(l).into_iter().find_map(|fv| {
                 let (p, n) = (self.front.prev(fv), self.front.next(fv));
                 let (a, b) = (self.front.node(p), self.front.node(fv));
-                if p != n && self.front.node(n) == a && self.slit_is_inside(a, b) {
+                (p != n && self.front.node(n) == a && self.slit_is_inside(a, b)).then_some((p, n))
+            });
+            match slit.or_else(|| pinches.then(|| self.pinch_to_split(l)).flatten()) {
+                Some((u, v)) => {
                     self.front.begin();
-                    let rest = self.front.split_pinch(p, n);
+                    let rest = self.front.split_pinch(u, v);
                     self.front.commit(&self.mesh.nodes);
                     zipped = true;
                     open.extend(rest);
-                    continue 'loops;
                 }
+                None => done.push(l),
             }
-            if let Some((u, v)) = pinches.then(|| self.pinch_to_split(l)).flatten() {
-                self.front.begin();
-                let rest = self.front.split_pinch(u, v);
-                self.front.commit(&self.mesh.nodes);
-                zipped = true;
-                open.extend(rest);
-                continue 'loops;
-            }
-            done.push(l);
         }
         (zipped, done)
     }

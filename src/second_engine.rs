@@ -214,7 +214,7 @@ mod tests {
         // to start on a busy machine)
         while kb.stats.second_engine_queries == 0 {
             let got: Vec<String> = kb
-                .ask_bounded_fresh_all(&questions)
+                .ask_bounded_fresh_all(questions.clone())
                 .into_iter()
                 .map(|a| format!("{:?}", a.unwrap()))
                 .collect();
@@ -237,7 +237,7 @@ mod tests {
             .collect();
         let t0 = Instant::now();
         while kb.stats.second_engine_queries == 0 {
-            for a in kb.ask_bounded_fresh_all(&questions) {
+            for a in kb.ask_bounded_fresh_all(questions.clone()) {
                 let e = a.unwrap_err().to_string();
                 assert!(e.contains("the rule feature(b6) raised"), "{e}");
             }
