@@ -392,7 +392,8 @@ fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
 const COMPASS_STEPS: usize = 4;
 
 /// How many of an element's changes, best first as they are made, are
-/// smoothed and judged in full.
+/// smoothed and judged in full; the rest are judged only if none of these
+/// is good.
 const JUDGED: usize = 2;
 
 /// The operations tried on every bad element.
@@ -582,7 +583,10 @@ fn best_change<M: Copy, K: PartialOrd + Copy>(
     }
     raw.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut best: Option<(K, usize, Vec<(u32, DVec2)>)> = None;
-    for &(_, i) in raw.iter().take(JUDGED) {
+    for (rank, &(_, i)) in raw.iter().enumerate() {
+        if rank >= JUDGED && best.is_some() {
+            break; // the rest only where the first few all fail
+        }
         let c = &candidates[i];
         let region = c.region(w);
         let mut after_region = region.clone();
