@@ -95,13 +95,27 @@ const SEAM_BAND: usize = 3;
 /// The nodes are cut into strips by x. A strip is swept without its nodes
 /// at a seam (those sharing an element with another strip), so no strip
 /// moves a node another one reads; the threads take strips in turn, each
-/// on its own copy of the mesh. Then one thread sweeps the seams, within a
-/// band of a few elements. The strips depend on the mesh alone, and a
-/// strip comes out the same whichever thread sweeps it, so the result is
-/// the same on any machine. Returns the moves kept.
+/// on its own copy of the mesh, every strip from the mesh as it was. Then
+/// one thread sweeps the seams, within a band of a few elements. The
+/// strips depend on the mesh alone, and a strip comes out the same
+/// whichever thread sweeps it, so the result is the same on any machine.
+/// Returns the moves kept.
 fn sweep_in_strips(
     mesh: &mut Mesh,
     around: Vec<Vec<(u32, u8)>>,
+    sweep: impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync,
+) -> usize {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |c| c.get())
+        .clamp(1, 4);
+    sweep_in_strips_on(mesh, around, threads, sweep)
+}
+
+/// `sweep_in_strips` on this many threads.
+fn sweep_in_strips_on(
+    mesh: &mut Mesh,
+    around: Vec<Vec<(u32, u8)>>,
+    threads: usize,
     sweep: impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync,
 ) -> usize {
     let n = mesh.nodes.len();
@@ -137,55 +151,55 @@ fn sweep_in_strips(
     for i in (0..n).filter(|&i| !seam[i]) {
         inner[strip[i]].push(i as u32);
     }
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |c| c.get())
-        .clamp(1, 4);
     let next = std::sync::atomic::AtomicUsize::new(0);
-    // sweeps strips as they come; the strips it swept and the moves kept
-    let work = |m: &mut Mesh| {
+    // sweeps strips as they come, each from the mesh as it was (so that
+    // what a strip reads outside it is the same whichever strips the
+    // thread swept before); the places its nodes went, and the moves kept
+    let original = &*mesh;
+    let work = || {
+        let mut m = original.clone();
         let mut dirty = vec![false; n];
-        let mut done = Vec::new();
+        let mut placed: Vec<(u32, DVec2)> = Vec::new();
         let mut moved = 0;
         loop {
             let s = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
             let Some(visit) = inner.get(s) else {
-                return (done, moved);
+                return (placed, moved);
             };
             for &i in visit {
                 dirty[i as usize] = true;
             }
             moved += sweep(
-                m,
+                &mut m,
                 &Nodes {
                     around: &around,
                     visit,
                 },
                 &mut dirty,
             );
-            done.push(s);
+            for &i in visit {
+                placed.push((i, m.nodes[i as usize]));
+                m.nodes[i as usize] = original.nodes[i as usize];
+            }
         }
     };
-    let mut copies: Vec<Mesh> = (1..threads).map(|_| mesh.clone()).collect();
-    let (mine, others) = std::thread::scope(|scope| {
-        let handles: Vec<_> = copies
-            .iter_mut()
-            .map(|copy| scope.spawn(|| work(copy)))
-            .collect();
-        let mine = work(mesh);
+    let results: Vec<(Vec<(u32, DVec2)>, usize)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mine = work();
         // a sweep that panicked is a defect: let it surface as one
-        let others: Vec<_> = handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect();
-        (mine, others)
+        std::iter::once(mine)
+            .chain(
+                handles
+                    .into_iter()
+                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+            )
+            .collect()
     });
-    let mut moved = mine.1;
-    for (copy, (done, m)) in copies.iter().zip(others) {
+    let mut moved = 0;
+    for (placed, m) in results {
         moved += m;
-        for s in done {
-            for &i in &inner[s] {
-                mesh.nodes[i as usize] = copy.nodes[i as usize];
-            }
+        for (i, p) in placed {
+            mesh.nodes[i as usize] = p;
         }
     }
     // the seams are left, swept within a band of a few elements either
@@ -1035,6 +1049,25 @@ mod tests {
         assert!(even_out_sizes(&mut m, 10) > 0);
         assert!(largest_jump(&m) <= 2.0, "jump {}", largest_jump(&m));
         assert!(worst_corner(&m) <= corner_before + 1e-9);
+    }
+
+    #[test]
+    fn a_strip_comes_out_the_same_whichever_thread_sweeps_it() {
+        // pushed hard, so that every sweep of the stage has work near the
+        // seams; one thread sweeps the strips one after another, three
+        // share them
+        let (m, _) = pushed_grid(150, 0.45);
+        let around = node_elements(&m);
+        let neighbours = element_neighbours(&m, &around);
+        let stage = |mesh: &mut Mesh, nodes: &Nodes, dirty: &mut [bool]| {
+            all_sweeps(mesh, [5, 5], nodes, &neighbours, dirty)
+        };
+        let mut alone = m.clone();
+        let mut shared = m.clone();
+        let moved = sweep_in_strips_on(&mut alone, around.clone(), 1, stage);
+        assert!(moved > 0);
+        sweep_in_strips_on(&mut shared, around, 3, stage);
+        assert_eq!(alone.nodes, shared.nodes);
     }
 
     #[test]
