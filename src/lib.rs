@@ -38,8 +38,12 @@ pub mod trace;
 pub mod triangle_fallback;
 
 pub use domain::{Domain, DomainError};
+
+/// How many times at most the clean-up and the smoothing round its
+/// changes run after the smoothing stage.
+const CLEANUP_ROUNDS: usize = 3;
 pub use kb::{KbError, KnowledgeBase};
-pub use mesh::Mesh;
+pub use mesh::{Mesh, NodeKind};
 pub use mesher::{MeshError, MeshStats};
 pub use quality::Quality;
 pub use trace::TraceStep;
@@ -360,14 +364,21 @@ fn finish_mesh(
     let t0 = std::time::Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes);
     // where smoothing could not reach the bounds: the elements joined
-    // up anew, and the nodes round the changes smoothed again
-    let (cleaned, touched) = cleanup::clean_up(&mut mesh);
-    stats.cleanup_flips = cleaned.flips;
-    stats.cleanup_collapses = cleaned.collapses;
-    if !touched.is_empty() {
+    // up anew and the nodes round the changes smoothed again, a few
+    // times while that changes something (the smoothing after a change
+    // can leave a corner the next clean-up mends)
+    let mut any_collapse = false;
+    for _ in 0..CLEANUP_ROUNDS {
+        let (cleaned, touched) = cleanup::clean_up(&mut mesh);
+        stats.cleanup_flips += cleaned.flips;
+        stats.cleanup_collapses += cleaned.collapses;
+        any_collapse |= cleaned.collapses > 0;
+        if touched.is_empty() {
+            break;
+        }
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
     }
-    if cleaned.collapses > 0 {
+    if any_collapse {
         compact_with_trace(&mut mesh, &mut trace);
     }
     let smoothing = t0.elapsed().as_secs_f64();
