@@ -396,6 +396,10 @@ const COMPASS_STEPS: usize = 4;
 /// is good.
 const JUDGED: usize = 2;
 
+/// How far round the last changes a later clean-up looks (elements): the
+/// smoothing after them moved nodes two rings out.
+const NEAR_RINGS: usize = 4;
+
 /// The operations tried on every bad element.
 const OPS: [Op; 8] = [
     Op::Flip(0),
@@ -425,6 +429,27 @@ impl<'m> Working<'m> {
         w
     }
 
+    /// The live elements within `rings` elements of these nodes.
+    fn elements_near(&self, nodes: &[u32], rings: usize) -> Vec<u32> {
+        let mut seen = vec![false; self.mesh.quads.len()];
+        let mut found: Vec<u32> = Vec::new();
+        let mut frontier: Vec<u32> = nodes.to_vec();
+        for _ in 0..rings {
+            let mut next = Vec::new();
+            for &n in &frontier {
+                for &q in &self.around[n as usize] {
+                    if !std::mem::replace(&mut seen[q as usize], true) {
+                        found.push(q);
+                        next.extend(self.mesh.quads[q as usize]);
+                    }
+                }
+            }
+            frontier = next;
+        }
+        found.sort_unstable();
+        found
+    }
+
     /// Each node's live elements, worked out afresh.
     fn index(&mut self) {
         let mut around = vec![Vec::new(); self.mesh.nodes.len()];
@@ -439,15 +464,21 @@ impl<'m> Working<'m> {
     }
 }
 
-/// Cleans up the elements with a corner outside [45, 135]; returns what
-/// it did and the nodes round the changes (to be smoothed again).
-pub fn clean_up(mesh: &mut Mesh) -> (CleanupStats, Vec<u32>) {
+/// Cleans up the elements with a corner outside [45, 135] or past the
+/// shape and size bounds: all of them, or (`near`) those within a few
+/// elements of these nodes (round the last clean-up's changes: elsewhere
+/// nothing changed since). Returns what it did and the nodes round the
+/// changes (to be smoothed again).
+pub fn clean_up(mesh: &mut Mesh, near: Option<&[u32]>) -> (CleanupStats, Vec<u32>) {
     let mut stats = CleanupStats::default();
     let mut touched: Vec<u32> = Vec::new();
     let mut w = Working::new(mesh);
-    let all: Vec<u32> = (0..w.mesh.quads.len() as u32).collect();
-    rounds(&mut w, all, &mut stats, &mut touched);
-    shape_round(&mut w, &mut stats, &mut touched);
+    let look_at: Vec<u32> = match near {
+        None => (0..w.mesh.quads.len() as u32).collect(),
+        Some(nodes) => w.elements_near(nodes, NEAR_RINGS),
+    };
+    rounds(&mut w, look_at.clone(), &mut stats, &mut touched);
+    shape_round(&mut w, &look_at, &mut stats, &mut touched);
     // the collapsed elements' slots go
     let Working { mesh, alive, .. } = w;
     let mut k = 0;
@@ -513,12 +544,14 @@ fn rounds(
     }
 }
 
-/// One round over the elements past the shape and size bounds (aspect
+/// One round over the elements of `look_at` past the shape and size bounds (aspect
 /// ratio or taper above 10, size above twice a neighbour's), worst first:
 /// each gets the change that brings its region furthest within them, if
 /// it does so clearly and no corner of the region gets worse.
-fn shape_round(w: &mut Working, stats: &mut CleanupStats, touched: &mut Vec<u32>) {
-    let mut bad: Vec<(f64, u32)> = (0..w.mesh.quads.len() as u32)
+fn shape_round(w: &mut Working, look_at: &[u32], stats: &mut CleanupStats, touched: &mut Vec<u32>) {
+    let mut bad: Vec<(f64, u32)> = look_at
+        .iter()
+        .copied()
         .filter(|&q| w.alive[q as usize])
         .map(|q| (w.shape_excess(&[q]), q))
         .filter(|&(x, _)| x > 1.0)
@@ -667,7 +700,7 @@ mod tests {
         let mut m = badly_split_hexagon();
         let area = m.area();
         assert!(worst_corner(&m) > 10.0);
-        let (stats, _) = clean_up(&mut m);
+        let (stats, _) = clean_up(&mut m, None);
         assert_eq!((stats.flips, stats.collapses), (1, 0));
         assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
         assert!((m.area() - area).abs() < 1e-12);
@@ -686,7 +719,7 @@ mod tests {
             b: 3,
             group: 1,
         });
-        let (stats, _) = clean_up(&mut m);
+        let (stats, _) = clean_up(&mut m, None);
         assert_eq!(stats.flips, 0);
         assert_eq!(m.quads, vec![[0, 1, 2, 3], [3, 4, 5, 0]]);
     }
@@ -746,7 +779,7 @@ mod tests {
             }
             let area = m.area();
             let corner_before = worst_corner(&m).max(0.0);
-            let (stats, _) = clean_up(&mut m);
+            let (stats, _) = clean_up(&mut m, None);
             tried += 1;
             changed += usize::from(stats.flips + stats.collapses > 0);
             crate::check::check_mesh(&m, area).unwrap();
@@ -769,7 +802,7 @@ mod tests {
             .filter(|&i| m.kinds[i] == NodeKind::Boundary)
             .map(|i| m.nodes[i])
             .collect();
-        let (stats, touched) = clean_up(&mut m);
+        let (stats, touched) = clean_up(&mut m, None);
         assert!(stats.flips + stats.collapses > 0);
         assert!(!touched.is_empty());
         assert!(worst_corner(&m) < before - 0.5);

@@ -368,8 +368,9 @@ fn finish_mesh(
     // times while that changes something (the smoothing after a change
     // can leave a corner the next clean-up mends)
     let mut any_collapse = false;
+    let mut last_changes: Option<Vec<u32>> = None;
     for _ in 0..CLEANUP_ROUNDS {
-        let (cleaned, touched) = cleanup::clean_up(&mut mesh);
+        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref());
         stats.cleanup_flips += cleaned.flips;
         stats.cleanup_collapses += cleaned.collapses;
         any_collapse |= cleaned.collapses > 0;
@@ -377,6 +378,7 @@ fn finish_mesh(
             break;
         }
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
+        last_changes = Some(touched);
     }
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace);
