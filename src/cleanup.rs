@@ -544,10 +544,11 @@ fn rounds(
     }
 }
 
-/// One round over the elements of `look_at` past the shape and size bounds (aspect
-/// ratio or taper above 10, size above twice a neighbour's), worst first:
-/// each gets the change that brings its region furthest within them, if
-/// it does so clearly and no corner of the region gets worse.
+/// One round over the elements of `look_at` past the shape and size
+/// bounds (aspect ratio or taper above 10, size above twice a
+/// neighbour's), worst first: each gets the change that brings its region
+/// furthest within them, if it does so clearly and no corner of the
+/// region gets worse.
 fn shape_round(w: &mut Working, look_at: &[u32], stats: &mut CleanupStats, touched: &mut Vec<u32>) {
     let mut bad: Vec<(f64, u32)> = look_at
         .iter()

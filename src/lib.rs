@@ -38,15 +38,15 @@ pub mod trace;
 pub mod triangle_fallback;
 
 pub use domain::{Domain, DomainError};
-
-/// How many times at most the clean-up and the smoothing round its
-/// changes run after the smoothing stage.
-const CLEANUP_ROUNDS: usize = 3;
 pub use kb::{KbError, KnowledgeBase};
 pub use mesh::{Mesh, NodeKind};
 pub use mesher::{MeshError, MeshStats};
 pub use quality::Quality;
 pub use trace::TraceStep;
+
+/// How many times at most the clean-up and the smoothing round its
+/// changes run after the smoothing stage.
+const CLEANUP_ROUNDS: usize = 3;
 
 /// Options of one meshing run.
 #[derive(Debug, Clone, PartialEq)]

@@ -557,11 +557,10 @@ pub(crate) fn compass_search_steps<S: Copy>(
     n: usize,
     around: &[(u32, u8)],
     start: S,
-    score: impl FnMut(&Mesh) -> Option<S>,
+    mut score: impl FnMut(&Mesh) -> Option<S>,
     better: impl Fn(S, S) -> bool,
     steps: usize,
 ) -> DVec2 {
-    let mut score = score;
     compass_search_together(mesh, &[n], around, start, |m, _| score(m), better, steps)
 }
 
@@ -697,14 +696,19 @@ fn even_out_sweeps(
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
-            if excess_round(mesh, &area, neighbours, &around[n]) <= 0.95 {
+            let own = excess_round(mesh, &area, neighbours, &around[n]);
+            if own <= 0.95 {
                 continue; // moving n could only make its elements worse
             }
             let mut moved_nodes = Vec::new();
-            if even_out_move(mesh, &[n], &around[n], &area, neighbours).is_some() {
-                moved_nodes.push(n);
-            }
-            if excess_round(mesh, &area, neighbours, &around[n]) > 1.0 {
+            let left = match even_out_move(mesh, &[n], &around[n], &area, neighbours) {
+                Some(left) => {
+                    moved_nodes.push(n);
+                    left
+                }
+                None => own,
+            };
+            if left > 1.0 {
                 // still past a bound: n is held by a corner at the edge
                 // of the window; try it with a neighbour, both moving
                 // together (an edge of the element shifted)
