@@ -748,17 +748,41 @@ fn excess_round(
     neighbours: &[[Option<u32>; 4]],
     region: &[(u32, u8)],
 ) -> f64 {
-    let area_of = |q: u32| {
-        if region.iter().any(|x| x.0 == q) {
-            quad_area(mesh, q)
-        } else {
-            area[q as usize]
-        }
+    excess_round_under(mesh, area, neighbours, region, f64::INFINITY).unwrap_or(f64::INFINITY)
+}
+
+/// The region's areas measured once an evaluation (a region is rarely
+/// larger; past this its areas are measured as they are asked for).
+const REGION_AREAS: usize = 24;
+
+/// `excess_round` if it is below `bound`, else None: the elements are
+/// judged one by one and the first at or past the bound ends it (most
+/// places a search tries are no better, and one element shows it).
+fn excess_round_under(
+    mesh: &Mesh,
+    area: &[f64],
+    neighbours: &[[Option<u32>; 4]],
+    region: &[(u32, u8)],
+    bound: f64,
+) -> Option<f64> {
+    let mut fresh = [0.0; REGION_AREAS];
+    for (slot, &(q, _)) in fresh.iter_mut().zip(region) {
+        *slot = quad_area(mesh, q);
+    }
+    let area_of = |q: u32| match region.iter().position(|x| x.0 == q) {
+        Some(i) if i < REGION_AREAS => fresh[i],
+        Some(_) => quad_area(mesh, q),
+        None => area[q as usize],
     };
-    region
-        .iter()
-        .map(|&(q, _)| size_shape_excess(mesh, q, &neighbours[q as usize], &area_of))
-        .fold(0.0, f64::max)
+    let mut worst = 0.0;
+    for &(q, _) in region {
+        let e = size_shape_excess(mesh, q, &neighbours[q as usize], &area_of);
+        if e >= bound {
+            return None;
+        }
+        worst = f64::max(worst, e);
+    }
+    (worst < bound).then_some(worst)
 }
 
 /// Moves the nodes `ns` together to where the size and shape excess of
@@ -785,6 +809,9 @@ fn even_out_move(
         })
         .fold(0.0, f64::max);
     let start_excess = excess_round(mesh, area, neighbours, region).max(fixed);
+    if fixed >= start_excess - 1e-6 {
+        return None; // the worst is out of reach: no place does better
+    }
     let start = worst_around(mesh, region);
     let start_outside = corners_outside(mesh, region);
     let min_sin = (-start.1).min(0.6);
@@ -797,9 +824,8 @@ fn even_out_move(
         |m, best| {
             // the excess first: most places are no better, and the
             // corners need not be looked at there
-            let e = excess_round(m, area, neighbours, region).max(fixed);
-            let better = e < best - 1e-6;
-            if !better {
+            let e = excess_round_under(m, area, neighbours, region, best - 1e-6)?.max(fixed);
+            if e >= best - 1e-6 {
                 return None;
             }
             let w = worst_around(m, region);
