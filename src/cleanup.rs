@@ -21,7 +21,9 @@
 use glam::DVec2;
 
 use crate::mesh::{Mesh, NodeKind};
-use crate::smoothing::{compass_search_steps, sine_worst_around, worst_around};
+use crate::smoothing::{
+    compass_search_steps, sine_worst_around, sine_worst_around_under, worst_around,
+};
 
 /// An operation on the mesh, as the KB names it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -156,7 +158,7 @@ impl Working<'_> {
                     n as usize,
                     &pairs,
                     start,
-                    |m| Some(sine_worst_around(m, &pairs)),
+                    |m, best| sine_worst_around_under(m, &pairs, best),
                     |w, b| w < b,
                     COMPASS_STEPS,
                 );

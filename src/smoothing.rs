@@ -455,6 +455,40 @@ pub(crate) fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
     (bad, -min_sin)
 }
 
+/// `worst_around` if it is better (smaller) than `best`, else None: the
+/// elements are judged one by one and the search gives up on a place at
+/// the first that shows it no better (both parts only grow).
+pub(crate) fn worst_around_under(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    best: (f64, f64),
+) -> Option<(f64, f64)> {
+    let mut bad: f64 = 0.0;
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        let (b, s) = badness_and_sine(mesh.quad_points(q as usize))?;
+        bad = bad.max(b);
+        min_sin = min_sin.min(s);
+        if !((bad, -min_sin) < best) {
+            return None;
+        }
+    }
+    Some((bad, -min_sin))
+}
+
+/// `sine_worst_around` if it is smaller than `best`, else None (judged
+/// element by element, as `worst_around_under`).
+pub(crate) fn sine_worst_around_under(mesh: &Mesh, around: &[(u32, u8)], best: f64) -> Option<f64> {
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        min_sin = min_sin.min(convex_scaled_jacobian(mesh.quad_points(q as usize))?);
+        if !(-min_sin < best) {
+            return None;
+        }
+    }
+    Some(-min_sin)
+}
+
 /// True when every corner of the elements round a node has a sine above
 /// 0.8 (between 53 and 127 degrees, so convex and inside [45, 135]):
 /// the common case, told without trigonometry.
@@ -503,7 +537,7 @@ fn untangle_sweeps(mesh: &mut Mesh, passes: usize, nodes: &Nodes, dirty: &mut [b
                 n,
                 &around[n],
                 start,
-                |m| Some(worst_around(m, &around[n])),
+                |m, best| worst_around_under(m, &around[n], best),
                 |w, best| w < best,
             );
             mesh.nodes[n] = best;
@@ -538,14 +572,15 @@ const COMPASS: [DVec2; 8] = {
 /// The best place for node `n` by a compass search: the eight directions
 /// round the best place so far, six times over, the step halving from a
 /// quarter of the shortest edge at the node. `score` judges the node where
-/// it is put (None: not allowed there); a place is taken when `better`
-/// than the best so far. The node is left where it was.
+/// it is put, given the best score so far (None: not allowed there, or
+/// sure to be no better); a place is taken when `better` than the best so
+/// far. The node is left where it was.
 pub(crate) fn compass_search<S: Copy>(
     mesh: &mut Mesh,
     n: usize,
     around: &[(u32, u8)],
     start: S,
-    score: impl FnMut(&Mesh) -> Option<S>,
+    score: impl FnMut(&Mesh, S) -> Option<S>,
     better: impl Fn(S, S) -> bool,
 ) -> DVec2 {
     compass_search_steps(mesh, n, around, start, score, better, 6)
@@ -557,18 +592,16 @@ pub(crate) fn compass_search_steps<S: Copy>(
     n: usize,
     around: &[(u32, u8)],
     start: S,
-    mut score: impl FnMut(&Mesh) -> Option<S>,
+    score: impl FnMut(&Mesh, S) -> Option<S>,
     better: impl Fn(S, S) -> bool,
     steps: usize,
 ) -> DVec2 {
-    compass_search_together(mesh, &[n], around, start, |m, _| score(m), better, steps)
+    compass_search_together(mesh, &[n], around, start, score, better, steps)
 }
 
 /// `compass_search_steps` moving the nodes `ns` together, each by the
-/// same displacement; `around` holds their elements; `score` is also
-/// given the best score so far (a place not better need not be judged
-/// in full). Returns the best place of the first; the others keep their
-/// offsets from it.
+/// same displacement; `around` holds their elements. Returns the best
+/// place of the first; the others keep their offsets from it.
 fn compass_search_together<S: Copy>(
     mesh: &mut Mesh,
     ns: &[usize],
