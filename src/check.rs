@@ -2,7 +2,7 @@
 //! convex with positive area, conforming (no edge in more than two
 //! elements, no hanging boundary), covering the domain's area.
 
-use std::collections::HashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::geometry::orient2d;
 use crate::mesh::Mesh;
@@ -36,7 +36,8 @@ pub enum MeshCheckError {
 /// of an element. Run it before nodes no element keeps are dropped: they
 /// take their segments with them.
 pub fn check_boundary_followed(mesh: &Mesh) -> Result<(), MeshCheckError> {
-    let mut edges = std::collections::HashSet::with_capacity(mesh.quads.len() * 4);
+    let mut edges =
+        FxHashSet::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
     for q in &mesh.quads {
         for k in 0..4 {
             let (a, b) = (q[k], q[(k + 1) % 4]);
@@ -58,7 +59,8 @@ pub fn check_mesh(mesh: &Mesh, want: f64) -> Result<(), MeshCheckError> {
     if mesh.quads.is_empty() {
         return Err(MeshCheckError::Empty);
     }
-    let mut count: HashMap<(u32, u32), u8> = HashMap::with_capacity(mesh.quads.len() * 2);
+    let mut count: FxHashMap<(u32, u32), u8> =
+        FxHashMap::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
     for (i, q) in mesh.quads.iter().enumerate() {
         let p = mesh.quad_points(i);
         if (0..4).any(|k| orient2d(p[k], p[(k + 1) % 4], p[(k + 2) % 4]) <= 0.0) {

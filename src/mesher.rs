@@ -268,8 +268,9 @@ pub struct Mesher<'k> {
     fallback_only: HashSet<u32>,
     started: bool,
     /// The element on the left of each directed element edge, kept as
-    /// elements come and go (taking back a layer asks it).
-    edge_owner: HashMap<(u32, u32), u32>,
+    /// elements come and go once the fallback first asks it (zipping
+    /// slits, taking back a layer); most runs never do.
+    edge_owner: Option<HashMap<(u32, u32), u32>>,
     /// The area of the domain (what the finished mesh must cover).
     pub area: f64,
 }
@@ -352,7 +353,7 @@ impl<'k> Mesher<'k> {
             fallback_passes: 0,
             fallback_only: Default::default(),
             started: false,
-            edge_owner: HashMap::with_capacity_and_hasher(4 * expected, Default::default()),
+            edge_owner: None,
             area,
         }
     }
@@ -804,7 +805,7 @@ impl<'k> Mesher<'k> {
         self.design = Vec::new();
         self.design_memo = HashMap::default();
         self.known = Vec::new();
-        self.edge_owner = HashMap::default();
+        self.edge_owner = None;
         self.version = Vec::new();
         self.failed = Vec::new();
     }
@@ -1308,8 +1309,10 @@ impl<'k> Mesher<'k> {
     /// Adds an element, noting it as the owner of its edges.
     fn push_quad(&mut self, q: [u32; 4]) {
         let qi = self.mesh.quads.len() as u32;
-        for i in 0..4 {
-            self.edge_owner.insert((q[i], q[(i + 1) % 4]), qi);
+        if let Some(owner) = &mut self.edge_owner {
+            for i in 0..4 {
+                owner.insert((q[i], q[(i + 1) % 4]), qi);
+            }
         }
         self.mesh.quads.push(q);
     }
@@ -1317,19 +1320,36 @@ impl<'k> Mesher<'k> {
     /// Removes element `qi` (the last element takes its place).
     fn remove_quad(&mut self, qi: usize) -> [u32; 4] {
         let q = self.mesh.quads.swap_remove(qi);
-        for i in 0..4 {
-            let e = (q[i], q[(i + 1) % 4]);
-            if self.edge_owner.get(&e) == Some(&(qi as u32)) {
-                self.edge_owner.remove(&e);
-            }
-        }
-        if let Some(&moved) = self.mesh.quads.get(qi) {
+        if let Some(owner) = &mut self.edge_owner {
             for i in 0..4 {
-                self.edge_owner
-                    .insert((moved[i], moved[(i + 1) % 4]), qi as u32);
+                let e = (q[i], q[(i + 1) % 4]);
+                if owner.get(&e) == Some(&(qi as u32)) {
+                    owner.remove(&e);
+                }
+            }
+            if let Some(&moved) = self.mesh.quads.get(qi) {
+                for i in 0..4 {
+                    owner.insert((moved[i], moved[(i + 1) % 4]), qi as u32);
+                }
             }
         }
         q
+    }
+
+    /// The owners of the element edges, gathered the first time they are
+    /// asked for and kept from then on.
+    fn edge_owners(&mut self) -> &HashMap<(u32, u32), u32> {
+        let quads = &self.mesh.quads;
+        self.edge_owner.get_or_insert_with(|| {
+            let mut owner =
+                HashMap::with_capacity_and_hasher(4 * quads.len() + 1024, Default::default());
+            for (qi, q) in quads.iter().enumerate() {
+                for i in 0..4 {
+                    owner.insert((q[i], q[(i + 1) % 4]), qi as u32);
+                }
+            }
+            owner
+        })
     }
 
     fn labels_shifted(&self, lab: &Labels) -> Labels {
@@ -1791,11 +1811,8 @@ impl<'k> Mesher<'k> {
     /// on both sides (fronts that met), or none on either side and not an
     /// input line (left where elements were taken back). An inner line of
     /// the input, with no element yet, bounds the domain on both sides.
-    fn slit_is_inside(&self, a: u32, b: u32) -> bool {
-        let owned = (
-            self.edge_owner.contains_key(&(a, b)),
-            self.edge_owner.contains_key(&(b, a)),
-        );
+    fn slit_is_inside(&self, owner: &HashMap<(u32, u32), u32>, a: u32, b: u32) -> bool {
+        let owned = (owner.contains_key(&(a, b)), owner.contains_key(&(b, a)));
         let input = |n: u32| self.mesh.kinds[n as usize] == NodeKind::Boundary;
         match owned {
             (true, true) => true,
@@ -1813,13 +1830,17 @@ impl<'k> Mesher<'k> {
         let mut zipped = false;
         let mut open = vec![l];
         let mut done = Vec::new();
+        self.edge_owners();
         while let Some(l) = open.pop() {
             // a slit (an edge there and back bounding nothing), or else a
             // node the loop passes twice
-            let slit = self.front.loop_fvs(l).into_iter().find_map(|fv| {
-                let (p, n) = (self.front.prev(fv), self.front.next(fv));
-                let (a, b) = (self.front.node(p), self.front.node(fv));
-                (p != n && self.front.node(n) == a && self.slit_is_inside(a, b)).then_some((p, n))
+            let slit = self.edge_owner.as_ref().and_then(|owner| {
+                self.front.loop_fvs(l).into_iter().find_map(|fv| {
+                    let (p, n) = (self.front.prev(fv), self.front.next(fv));
+                    let (a, b) = (self.front.node(p), self.front.node(fv));
+                    (p != n && self.front.node(n) == a && self.slit_is_inside(owner, a, b))
+                        .then_some((p, n))
+                })
             });
             match slit.or_else(|| pinches.then(|| self.pinch_to_split(l)).flatten()) {
                 Some((u, v)) => {
@@ -1872,15 +1893,16 @@ impl<'k> Mesher<'k> {
     /// Takes back every element that shares an edge with loop `l`; the
     /// loop grows round them. False if there is none.
     fn unmesh_layer(&mut self, l: u32) -> Result<bool, MeshError> {
-        let mut victims: Vec<usize> = self
+        let edges: Vec<(u32, u32)> = self
             .front
             .loop_fvs(l)
             .iter()
-            .filter_map(|&fv| {
-                self.edge_owner
-                    .get(&(self.front.node(self.front.next(fv)), self.front.node(fv)))
-                    .map(|&q| q as usize)
-            })
+            .map(|&fv| (self.front.node(self.front.next(fv)), self.front.node(fv)))
+            .collect();
+        let owner = self.edge_owners();
+        let mut victims: Vec<usize> = edges
+            .iter()
+            .filter_map(|e| owner.get(e).map(|&q| q as usize))
             .collect();
         victims.sort_unstable();
         victims.dedup();

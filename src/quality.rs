@@ -4,7 +4,7 @@
 //! lengths), and the size jump between neighbours.
 
 use glam::DVec2;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use crate::geometry::quad_angles;
 use crate::mesh::Mesh;
@@ -92,7 +92,8 @@ pub fn measure(mesh: &Mesh) -> Quality {
     if !mesh.quads.is_empty() {
         q.pct_45_135 = 100.0 * good as f64 / mesh.quads.len() as f64;
     }
-    let mut owner: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut owner: FxHashMap<(u32, u32), u32> =
+        FxHashMap::with_capacity_and_hasher(2 * mesh.quads.len(), Default::default());
     for (qi, quad) in mesh.quads.iter().enumerate() {
         for i in 0..4 {
             let (a, b) = (quad[i], quad[(i + 1) % 4]);
