@@ -235,8 +235,9 @@ pub struct Mesher<'k> {
     refresh_stamp: u64,
     /// The KB's design for each oriented edge (by key) of the live front.
     design: Vec<Design>,
-    /// How many edges have a design.
-    designed_edges: usize,
+    /// The length of the queue when it was last pruned (all live then):
+    /// it is pruned again once it holds twice that, most of it stale.
+    queued_after_prune: usize,
     /// The KB's answers by context (its seven numbers, as the query has
     /// them): the same context gets the same answer, without building
     /// the query text again. Forgotten when the KB changes.
@@ -337,7 +338,7 @@ impl<'k> Mesher<'k> {
             refresh_stamp: 0,
             failed: Vec::with_capacity(keys),
             design: Vec::with_capacity(keys),
-            designed_edges: 0,
+            queued_after_prune: 0,
             design_memo: HashMap::with_capacity_and_hasher(expected / 2, Default::default()),
             known: Vec::with_capacity(expected / 2),
             heap: BinaryHeap::with_capacity(1 << 14),
@@ -495,7 +496,6 @@ impl<'k> Mesher<'k> {
             key,
             version: self.version[key as usize],
         }));
-        self.designed_edges += 1;
         self.design[key as usize] = Design {
             known,
             angles: std::array::from_fn(|i| nums[i] as f32),
@@ -504,11 +504,7 @@ impl<'k> Mesher<'k> {
 
     /// Forgets the design of oriented edge `key`.
     fn drop_design(&mut self, key: u32) {
-        let d = &mut self.design[key as usize];
-        if d.known != NO_DESIGN.known {
-            *d = NO_DESIGN;
-            self.designed_edges -= 1;
-        }
+        self.design[key as usize] = NO_DESIGN;
     }
 
     /// Asks the KB the design of each context not asked before (in one
@@ -725,7 +721,7 @@ impl<'k> Mesher<'k> {
         if !self.started {
             self.start()?;
         }
-        if self.heap.len() > 4096 && self.heap.len() > 2 * self.designed_edges {
+        if self.heap.len() > 4096 && self.heap.len() > 2 * self.queued_after_prune {
             self.prune_queue();
         }
         while let Some(Reverse(c)) = self.heap.pop() {
@@ -819,6 +815,7 @@ impl<'k> Mesher<'k> {
             version[key as usize] == v && failed[key as usize] != v && front.alive(key / 2)
         };
         self.heap.retain(|Reverse(c)| live(c.key, c.version));
+        self.queued_after_prune = self.heap.len();
     }
 
     /// Each open loop of the front in loop order, as `each` reads its
