@@ -2040,8 +2040,9 @@ impl<'k> Mesher<'k> {
         // (a loop of four gets a ring round a convex four, closed at once:
         // no nesting, so its ring may go finer)
         let min_edge = self.min_edge / if n == 4 { 32.0 } else { 4.0 };
-        // the ring's elements, judged by their smallest angle
-        let judge = |inner: Vec<DVec2>| -> Option<(f64, Vec<DVec2>)> {
+        // the ring's elements, judged by their smallest angle; None too
+        // once it is sure to be no better than `floor` (the best so far)
+        let judge = |inner: Vec<DVec2>, floor: f64| -> Option<(f64, Vec<DVec2>)> {
             if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
                 return None;
             }
@@ -2056,20 +2057,16 @@ impl<'k> Mesher<'k> {
             let mut worst = f64::MAX;
             for i in 0..n {
                 let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
-                if !convex_ok(&q) {
+                let angles = convex_angles(&q)?;
+                worst = worst.min(angles.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
+                if worst <= floor {
                     return None;
                 }
-                worst = worst.min(
-                    quad_angles(q)
-                        .iter()
-                        .map(|&x| x.min(180.0 - x))
-                        .fold(f64::MAX, f64::min),
-                );
             }
             Some((worst, inner))
         };
         // inner nodes on a circle round a centre c
-        let ring = |c: DVec2, t: f64| -> Option<(f64, Vec<DVec2>)> {
+        let ring = |c: DVec2, t: f64, floor: f64| -> Option<(f64, Vec<DVec2>)> {
             let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
             if rmax <= 0.0 {
                 return None;
@@ -2078,12 +2075,13 @@ impl<'k> Mesher<'k> {
                 p.iter()
                     .map(|&x| c + (x - c).normalize_or_zero() * rmax * t)
                     .collect(),
+                floor,
             )
         };
         // or each inner node in from its loop node along the bisector of
         // the loop's corner there: a loop with a reflex or flat corner
         // (no centre sees it well) gets its ring this way
-        let bisector_ring = |t: f64| -> Option<(f64, Vec<DVec2>)> {
+        let bisector_ring = |t: f64, floor: f64| -> Option<(f64, Vec<DVec2>)> {
             judge(
                 (0..n)
                     .map(|i| {
@@ -2093,30 +2091,28 @@ impl<'k> Mesher<'k> {
                         v + dir * t * (next - v).length().min((prev - v).length())
                     })
                     .collect(),
+                floor,
             )
         };
         let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
         let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
         let mut best: Option<(f64, Vec<DVec2>)> = None;
+        let floor = |best: &Option<(f64, Vec<DVec2>)>| best.as_ref().map_or(f64::NEG_INFINITY, |b| b.0);
         let steps = 48;
         for ix in 1..steps {
             for iy in 1..steps {
                 let c =
                     lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
                 for t in [0.25, 0.5, 0.75] {
-                    if let Some(r) = ring(c, t) {
-                        if best.as_ref().is_none_or(|b| r.0 > b.0) {
-                            best = Some(r);
-                        }
+                    if let Some(r) = ring(c, t, floor(&best)) {
+                        best = Some(r);
                     }
                 }
             }
         }
         for t in [0.2, 0.35, 0.5] {
-            if let Some(r) = bisector_ring(t) {
-                if best.as_ref().is_none_or(|b| r.0 > b.0) {
-                    best = Some(r);
-                }
+            if let Some(r) = bisector_ring(t, floor(&best)) {
+                best = Some(r);
             }
         }
         if let Some((_, inner)) = best {
@@ -2159,21 +2155,27 @@ impl<'k> Mesher<'k> {
 /// elements convex with the largest smallest angle: `first` if it is good,
 /// else the best of a grid over the loop's bounding box.
 fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
-    let score = |c: DVec2| -> f64 {
+    // the smallest angle of the elements, or a value at most `floor` as
+    // soon as one shows the place no better than that
+    let score = |c: DVec2, floor: f64| -> f64 {
         let pt = |i: usize| if i < p.len() { p[i] } else { c };
-        quads
-            .iter()
-            .map(|q| {
-                let qp = q.map(pt);
-                if (0..4).any(|i| orient2d(qp[i], qp[(i + 1) % 4], qp[(i + 2) % 4]) <= 0.0) {
-                    return -1.0;
-                }
+        let mut worst = f64::MAX;
+        for q in quads {
+            let qp = q.map(pt);
+            let s = if (0..4).any(|i| orient2d(qp[i], qp[(i + 1) % 4], qp[(i + 2) % 4]) <= 0.0) {
+                -1.0
+            } else {
                 let a = quad_angles(qp);
                 a.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min)
-            })
-            .fold(f64::MAX, f64::min)
+            };
+            worst = worst.min(s);
+            if worst <= floor {
+                break;
+            }
+        }
+        worst
     };
-    let mut best = (score(first), first);
+    let mut best = (score(first, f64::NEG_INFINITY), first);
     if best.0 >= 30.0 {
         return first;
     }
@@ -2183,7 +2185,7 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
     for ix in 1..steps {
         for iy in 1..steps {
             let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
-            let sc = score(c);
+            let sc = score(c, best.0);
             if sc > best.0 {
                 best = (sc, c);
             }
@@ -2245,8 +2247,16 @@ fn distinct(ids: &[u32]) -> bool {
 }
 
 fn convex_ok(q: &[DVec2; 4]) -> bool {
-    (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0)
-        && quad_angles(*q).iter().all(|&a| (1.0..=179.0).contains(&a))
+    convex_angles(q).is_some()
+}
+
+/// The corner angles of `q` if it passes `convex_ok`.
+fn convex_angles(q: &[DVec2; 4]) -> Option<[f64; 4]> {
+    if !(0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) {
+        return None;
+    }
+    let a = quad_angles(*q);
+    a.iter().all(|&a| (1.0..=179.0).contains(&a)).then_some(a)
 }
 
 /// How a chord leaving `v` (whose next loop node is `next`) in direction
