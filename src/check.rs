@@ -36,8 +36,7 @@ pub enum MeshCheckError {
 /// of an element. Run it before nodes no element keeps are dropped: they
 /// take their segments with them.
 pub fn check_boundary_followed(mesh: &Mesh) -> Result<(), MeshCheckError> {
-    let mut edges =
-        FxHashSet::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
+    let mut edges = FxHashSet::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
     for q in &mesh.quads {
         for k in 0..4 {
             let (a, b) = (q[k], q[(k + 1) % 4]);

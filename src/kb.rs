@@ -239,7 +239,11 @@ fn fmt_thousandths(f: f64) -> Option<String> {
     }
     let k = k as i64;
     let (whole, mut frac) = ((k / 1000).abs(), (k % 1000).abs());
-    let sign = if f < 0.0 || (f == 0.0 && f.is_sign_negative()) { "-" } else { "" };
+    let sign = if f < 0.0 || (f == 0.0 && f.is_sign_negative()) {
+        "-"
+    } else {
+        ""
+    };
     let mut digits = 3;
     while digits > 1 && frac % 10 == 0 {
         frac /= 10;

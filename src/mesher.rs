@@ -2058,7 +2058,12 @@ impl<'k> Mesher<'k> {
             for i in 0..n {
                 let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
                 let angles = convex_angles(&q)?;
-                worst = worst.min(angles.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
+                worst = worst.min(
+                    angles
+                        .iter()
+                        .map(|&x| x.min(180.0 - x))
+                        .fold(f64::MAX, f64::min),
+                );
                 if worst <= floor {
                     return None;
                 }
@@ -2097,7 +2102,8 @@ impl<'k> Mesher<'k> {
         let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
         let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
         let mut best: Option<(f64, Vec<DVec2>)> = None;
-        let floor = |best: &Option<(f64, Vec<DVec2>)>| best.as_ref().map_or(f64::NEG_INFINITY, |b| b.0);
+        let floor =
+            |best: &Option<(f64, Vec<DVec2>)>| best.as_ref().map_or(f64::NEG_INFINITY, |b| b.0);
         let steps = 48;
         for ix in 1..steps {
             for iy in 1..steps {

@@ -96,8 +96,9 @@ const SEAM_BAND: usize = 3;
 /// at a seam (those sharing an element with another strip), so no strip
 /// moves a node another one reads; the threads take strips in turn, each
 /// on its own copy of the mesh, every strip from the mesh as it was. Then
-/// one thread sweeps the seams, within a band of a few elements. The
-/// strips depend on the mesh alone, and a strip comes out the same
+/// the seams are swept, within a band of a few elements, the bands far
+/// enough apart that neither reads the other's moves side by side. The
+/// strips and bands depend on the mesh alone, and each comes out the same
 /// whichever thread sweeps it, so the result is the same on any machine.
 /// Returns the moves kept.
 fn sweep_in_strips(
@@ -151,9 +152,115 @@ fn sweep_in_strips_on(
     for i in (0..n).filter(|&i| !seam[i]) {
         inner[strip[i]].push(i as u32);
     }
+    let all_dirty = vec![true; n];
+    let moved = sweep_groups(mesh, &around, &inner, &all_dirty, threads, &sweep);
+    // the seams are left, swept within a band of a few elements either
+    // side (a settling move there need not ripple across the mesh)
+    let mut band = seam.clone();
+    for _ in 0..SEAM_BAND {
+        band = (0..n)
+            .map(|i| {
+                band[i]
+                    || around[i]
+                        .iter()
+                        .any(|&(q, _)| mesh.quads[q as usize].iter().any(|&m| band[m as usize]))
+            })
+            .collect();
+    }
+    // bands far apart cannot read each other's moves: swept side by side,
+    // they come out as swept together
+    let bands = apart_groups(mesh, &around, &band, BANDS_APART);
+    moved + sweep_groups(mesh, &around, &bands, &seam, threads, &sweep)
+}
+
+/// How many node steps from a band a sweep there may read or mark (the
+/// size evening reads areas two elements out, three steps): bands more
+/// than twice this apart are swept apart.
+const BANDS_APART: usize = 4;
+
+/// The nodes marked in `marked`, in ascending order, grouped so that two
+/// nodes at most `2 * reach` steps apart (a step: to a corner of an
+/// element at the node) are in one group; the groups ordered by their
+/// first node.
+fn apart_groups(
+    mesh: &Mesh,
+    around: &[Vec<(u32, u8)>],
+    marked: &[bool],
+    reach: usize,
+) -> Vec<Vec<u32>> {
+    let n = marked.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    // every node reached within `reach` steps of a marked one takes the
+    // group of the first to reach it; two groups meeting are joined
+    let mut owner: Vec<u32> = (0..n as u32)
+        .map(|i| if marked[i as usize] { i } else { u32::MAX })
+        .collect();
+    let mut frontier: Vec<u32> = (0..n as u32).filter(|&i| marked[i as usize]).collect();
+    for _ in 0..reach {
+        let mut next = Vec::new();
+        for &u in &frontier {
+            for &(q, _) in &around[u as usize] {
+                for v in mesh.quads[q as usize] {
+                    let o = owner[v as usize];
+                    if o == u32::MAX {
+                        owner[v as usize] = owner[u as usize];
+                        next.push(v);
+                    } else {
+                        let (a, b) = (root(&mut parent, o), root(&mut parent, owner[u as usize]));
+                        parent[a.max(b) as usize] = a.min(b);
+                    }
+                }
+            }
+        }
+        frontier = next;
+    }
+    let mut groups: Vec<Vec<u32>> = Vec::new();
+    let mut index: rustc_hash::FxHashMap<u32, usize> = Default::default();
+    for i in (0..n as u32).filter(|&i| marked[i as usize]) {
+        let r = root(&mut parent, i);
+        let g = *index.entry(r).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push(i);
+    }
+    groups
+}
+
+/// Sweeps each group of nodes, the threads taking groups in turn, each
+/// group from the mesh as it was and from the dirty marks of
+/// `dirty_at_start`; the groups' nodes are then written back. Returns
+/// the moves kept.
+fn sweep_groups(
+    mesh: &mut Mesh,
+    around: &[Vec<(u32, u8)>],
+    groups: &[Vec<u32>],
+    dirty_at_start: &[bool],
+    threads: usize,
+    sweep: &(impl Fn(&mut Mesh, &Nodes, &mut [bool]) -> usize + Sync),
+) -> usize {
+    let n = mesh.nodes.len();
+    if groups.is_empty() {
+        return 0;
+    }
+    if groups.len() == 1 {
+        let mut dirty = dirty_at_start.to_vec();
+        let nodes = Nodes {
+            around,
+            visit: &groups[0],
+        };
+        return sweep(mesh, &nodes, &mut dirty);
+    }
     let next = std::sync::atomic::AtomicUsize::new(0);
-    // sweeps strips as they come, each from the mesh as it was (so that
-    // what a strip reads outside it is the same whichever strips the
+    // sweeps groups as they come, each from the mesh as it was (so that
+    // what a group reads outside it is the same whichever groups the
     // thread swept before); the places its nodes went, and the moves kept
     let original = &*mesh;
     let work = || {
@@ -163,20 +270,13 @@ fn sweep_in_strips_on(
         let mut moved = 0;
         loop {
             let s = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-            let Some(visit) = inner.get(s) else {
+            let Some(visit) = groups.get(s) else {
                 return (placed, moved);
             };
             for &i in visit {
-                dirty[i as usize] = true;
+                dirty[i as usize] = dirty_at_start[i as usize];
             }
-            moved += sweep(
-                &mut m,
-                &Nodes {
-                    around: &around,
-                    visit,
-                },
-                &mut dirty,
-            );
+            moved += sweep(&mut m, &Nodes { around, visit }, &mut dirty);
             for &i in visit {
                 placed.push((i, m.nodes[i as usize]));
                 m.nodes[i as usize] = original.nodes[i as usize];
@@ -184,7 +284,9 @@ fn sweep_in_strips_on(
         }
     };
     let results: Vec<(Vec<(u32, DVec2)>, usize)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let handles: Vec<_> = (1..threads.min(groups.len()))
+            .map(|_| scope.spawn(work))
+            .collect();
         let mine = work();
         // a sweep that panicked is a defect: let it surface as one
         std::iter::once(mine)
@@ -202,30 +304,7 @@ fn sweep_in_strips_on(
             mesh.nodes[i as usize] = p;
         }
     }
-    // the seams are left, swept within a band of a few elements either
-    // side (a settling move there need not ripple across the mesh)
-    let mut band = seam.clone();
-    for _ in 0..SEAM_BAND {
-        band = (0..n)
-            .map(|i| {
-                band[i]
-                    || around[i]
-                        .iter()
-                        .any(|&(q, _)| mesh.quads[q as usize].iter().any(|&m| band[m as usize]))
-            })
-            .collect();
-    }
-    let visit: Vec<u32> = (0..n as u32).filter(|&i| band[i as usize]).collect();
-    let mut dirty = seam;
     moved
-        + sweep(
-            mesh,
-            &Nodes {
-                around: &around,
-                visit: &visit,
-            },
-            &mut dirty,
-        )
 }
 
 /// Marks every node of these elements dirty: a sweep looks at them again.
@@ -1131,6 +1210,47 @@ mod tests {
         assert!(moved > 0);
         sweep_in_strips_on(&mut shared, around, 3, stage);
         assert_eq!(alone.nodes, shared.nodes);
+    }
+
+    #[test]
+    fn bands_far_enough_apart_come_out_as_swept_together() {
+        // pushed hard, so that every sweep of the stage has work; columns
+        // of a 60 x 60 grid marked, nine steps apart (apart) or eight (one)
+        let (m, _) = pushed_grid(60, 0.45);
+        let around = node_elements(&m);
+        let neighbours = element_neighbours(&m, &around);
+        let stage = |mesh: &mut Mesh, nodes: &Nodes, dirty: &mut [bool]| {
+            all_sweeps(mesh, [5, 5], nodes, &neighbours, dirty)
+        };
+        let columns = |a: usize, b: usize| -> Vec<bool> {
+            (0..m.nodes.len())
+                .map(|i| (a..a + 5).contains(&(i % 61)) || (b..b + 5).contains(&(i % 61)))
+                .collect()
+        };
+        assert_eq!(
+            apart_groups(&m, &around, &columns(8, 20), BANDS_APART).len(),
+            1
+        );
+        let marked = columns(8, 21);
+        let groups = apart_groups(&m, &around, &marked, BANDS_APART);
+        assert_eq!(groups.len(), 2);
+        let all_dirty = vec![true; m.nodes.len()];
+        let mut apart = m.clone();
+        sweep_groups(&mut apart, &around, &groups, &all_dirty, 2, &stage);
+        let mut together = m.clone();
+        let visit: Vec<u32> = (0..m.nodes.len() as u32)
+            .filter(|&i| marked[i as usize])
+            .collect();
+        let moved = stage(
+            &mut together,
+            &Nodes {
+                around: &around,
+                visit: &visit,
+            },
+            &mut all_dirty.clone(),
+        );
+        assert!(moved > 0);
+        assert_eq!(apart.nodes, together.nodes);
     }
 
     #[test]
