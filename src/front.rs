@@ -44,6 +44,18 @@ enum Change {
     NewLoop,
 }
 
+/// `v.floor().clamp(-1e9, 1e9) as i32` without the call into libm that
+/// `floor` is on a baseline x86-64 (a search asks for a dozen cells).
+fn floor_clamped(v: f64) -> i32 {
+    let c = v.clamp(-1e9, 1e9);
+    let t = c as i32;
+    if (t as f64) > c {
+        t - 1
+    } else {
+        t
+    }
+}
+
 /// The loops of the remaining domain.
 #[derive(Debug, Clone, Default)]
 pub struct Front {
@@ -210,8 +222,8 @@ impl Front {
 
     fn cell_of(&self, p: DVec2) -> (i32, i32) {
         (
-            (p.x / self.cell).floor().clamp(-1e9, 1e9) as i32,
-            (p.y / self.cell).floor().clamp(-1e9, 1e9) as i32,
+            floor_clamped(p.x / self.cell),
+            floor_clamped(p.y / self.cell),
         )
     }
 
@@ -537,6 +549,31 @@ mod tests {
         let mut f = Front::new(&[0, 1, 2, 3, 4, 5], 1.0);
         f.index_all(&pos);
         (f, pos)
+    }
+
+    #[test]
+    fn a_cell_is_the_floor_of_the_coordinate() {
+        for v in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.999,
+            1e9,
+            -1e9,
+            3e9,
+            -3e9,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            123456.75,
+            -123456.75,
+        ] {
+            assert_eq!(floor_clamped(v), v.floor().clamp(-1e9, 1e9) as i32, "{v}");
+        }
     }
 
     #[test]

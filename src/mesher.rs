@@ -232,6 +232,8 @@ pub struct Mesher<'k> {
     /// The angle at each occurrence as this refresh measured it (the
     /// refresh's stamp, degrees): a refresh asks each up to ten times.
     angle_seen: Vec<(u64, f64)>,
+    /// The refresh that last queued each occurrence's two edges.
+    queued_in: Vec<u64>,
     refresh_stamp: u64,
     /// The KB's design for each oriented edge (by key) of the live front.
     design: Vec<Design>,
@@ -335,6 +337,7 @@ impl<'k> Mesher<'k> {
             set,
             version: Vec::with_capacity(keys),
             angle_seen: Vec::with_capacity(keys / 2),
+            queued_in: Vec::with_capacity(keys / 2),
             refresh_stamp: 0,
             failed: Vec::with_capacity(keys),
             design: Vec::with_capacity(keys),
@@ -452,6 +455,7 @@ impl<'k> Mesher<'k> {
             self.failed.resize(n, NOT_FAILED);
             self.design.resize(n, NO_DESIGN);
             self.angle_seen.resize(n / 2, (0, 0.0));
+            self.queued_in.resize(n / 2, 0);
         }
     }
 
@@ -621,13 +625,16 @@ impl<'k> Mesher<'k> {
             }
             let mut fv = a;
             for _ in 0..7 {
-                keys.push(fv * 2);
-                keys.push(fv * 2 + 1);
+                // each edge once (the windows of neighbouring changes overlap)
+                if self.queued_in[fv as usize] != self.refresh_stamp {
+                    self.queued_in[fv as usize] = self.refresh_stamp;
+                    keys.push(fv * 2);
+                    keys.push(fv * 2 + 1);
+                }
                 fv = self.front.next(fv);
             }
         }
         keys.sort_unstable();
-        keys.dedup();
         let edges: Vec<(u32, Labels, [f64; 7])> = keys
             .into_iter()
             .filter_map(|k| self.edge_context(k).map(|(lab, nums)| (k, lab, nums)))
