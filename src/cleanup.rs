@@ -402,6 +402,10 @@ const JUDGED: usize = 2;
 /// smoothing after them moved nodes two rings out.
 const NEAR_RINGS: usize = 4;
 
+/// A whole mesh of this many elements or more is cleaned up with a copy
+/// to judge changes on beside it (see `first_good`).
+const SIDE_BY_SIDE_FROM: usize = 20_000;
+
 /// The operations tried on every bad element.
 const OPS: [Op; 8] = [
     Op::Flip(0),
@@ -472,15 +476,36 @@ impl<'m> Working<'m> {
 /// nothing changed since). Returns what it did and the nodes round the
 /// changes (to be smoothed again).
 pub fn clean_up(mesh: &mut Mesh, near: Option<&[u32]>) -> (CleanupStats, Vec<u32>) {
+    // a second copy to judge changes on beside the first: for a whole
+    // large mesh, where many elements have all their changes judged
+    let threads = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let side_by_side = near.is_none() && threads > 1 && mesh.quads.len() >= SIDE_BY_SIDE_FROM;
+    clean_up_on(mesh, near, side_by_side)
+}
+
+/// `clean_up`, judging changes on a copy beside the mesh or not.
+fn clean_up_on(
+    mesh: &mut Mesh,
+    near: Option<&[u32]>,
+    side_by_side: bool,
+) -> (CleanupStats, Vec<u32>) {
     let mut stats = CleanupStats::default();
     let mut touched: Vec<u32> = Vec::new();
+    let mut copy = side_by_side.then(|| mesh.clone());
     let mut w = Working::new(mesh);
+    let mut helper = copy.as_mut().map(|m| Working::new(m));
     let look_at: Vec<u32> = match near {
         None => (0..w.mesh.quads.len() as u32).collect(),
         Some(nodes) => w.elements_near(nodes, NEAR_RINGS),
     };
-    rounds(&mut w, look_at.clone(), &mut stats, &mut touched);
-    shape_round(&mut w, &look_at, &mut stats, &mut touched);
+    rounds(
+        &mut w,
+        &mut helper,
+        look_at.clone(),
+        &mut stats,
+        &mut touched,
+    );
+    shape_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
     // the collapsed elements' slots go
     let Working { mesh, alive, .. } = w;
     let mut k = 0;
@@ -498,6 +523,7 @@ pub fn clean_up(mesh: &mut Mesh, near: Option<&[u32]>) -> (CleanupStats, Vec<u32
 /// change, if one is clearly better.
 fn rounds(
     w: &mut Working,
+    helper: &mut Option<Working>,
     mut look_at: Vec<u32>,
     stats: &mut CleanupStats,
     touched: &mut Vec<u32>,
@@ -520,6 +546,7 @@ fn rounds(
             // region's worst corner gets clearly better
             let done = best_change(
                 w,
+                helper,
                 candidates,
                 |w, changed| {
                     let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
@@ -551,7 +578,13 @@ fn rounds(
 /// neighbour's), worst first: each gets the change that brings its region
 /// furthest within them, if it does so clearly and no corner of the
 /// region gets worse.
-fn shape_round(w: &mut Working, look_at: &[u32], stats: &mut CleanupStats, touched: &mut Vec<u32>) {
+fn shape_round(
+    w: &mut Working,
+    helper: &mut Option<Working>,
+    look_at: &[u32],
+    stats: &mut CleanupStats,
+    touched: &mut Vec<u32>,
+) {
     let mut bad: Vec<(f64, u32)> = look_at
         .iter()
         .copied()
@@ -569,6 +602,7 @@ fn shape_round(w: &mut Working, look_at: &[u32], stats: &mut CleanupStats, touch
         // gets clearly smaller with no corner worse
         let done = best_change(
             w,
+            helper,
             candidates,
             |w, changed| w.shape_excess(changed),
             |w, region| (w.worst_of(region), w.shape_excess(region)),
@@ -603,13 +637,16 @@ fn record(
 /// as made by `quick` on the elements it changes (cheap, smaller first),
 /// the best few made again with smoothing round them and their region
 /// measured before and after; `accept` gives the score of a good one
-/// (smaller is better).
-fn best_change<M: Copy, K: PartialOrd + Copy>(
+/// (smaller is better). Where none of the few is good, the first good
+/// one of the rest; with a `helper` (a copy of the mesh) two threads
+/// look for it, the answer the same. The change is made on both.
+fn best_change<M, K: PartialOrd + Copy + Send>(
     w: &mut Working,
+    helper: &mut Option<Working>,
     candidates: Vec<Change>,
     quick: impl Fn(&Working, &[u32]) -> f64,
-    measure: impl Fn(&Working, &[u32]) -> M,
-    accept: impl Fn(M, M) -> Option<K>,
+    measure: impl Fn(&Working, &[u32]) -> M + Sync,
+    accept: impl Fn(M, M) -> Option<K> + Sync,
 ) -> Option<Change> {
     let mut raw: Vec<(f64, usize)> = Vec::new();
     for (i, c) in candidates.iter().enumerate() {
@@ -618,35 +655,104 @@ fn best_change<M: Copy, K: PartialOrd + Copy>(
         c.revert(w);
     }
     raw.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let ranked: Vec<usize> = raw.iter().map(|&(_, i)| i).collect();
+    let judge = |w: &mut Working, i: usize| judge_change(w, &candidates[i], &measure, &accept);
     let mut best: Option<(K, usize, Vec<(u32, DVec2)>)> = None;
-    for (rank, &(_, i)) in raw.iter().enumerate() {
-        if rank >= JUDGED && best.is_some() {
-            break; // the rest only where the first few all fail
-        }
-        let c = &candidates[i];
-        let region = c.region(w);
-        let mut after_region = region.clone();
-        if let Change::Collapse { q, .. } = c {
-            after_region.retain(|r| r != q);
-        }
-        let saved = w.snapshot(&region);
-        let before = measure(w, &region);
-        c.apply(w);
-        let nodes = c.nodes(w);
-        w.smooth_locally(&nodes);
-        if let Some(score) = accept(before, measure(w, &after_region)) {
+    for &i in ranked.iter().take(JUDGED) {
+        if let Some((score, moved)) = judge(w, i) {
             if best.as_ref().is_none_or(|b| score < b.0) {
-                best = Some((score, i, w.snapshot(&after_region)));
+                best = Some((score, i, moved));
             }
         }
-        c.revert(w);
-        w.restore(&saved);
     }
-    let (_, i, moved) = best?;
+    let rest = ranked.get(JUDGED..).unwrap_or(&[]);
+    let (i, moved) = match best {
+        Some((_, i, moved)) => (i, moved),
+        None => first_good(w, helper, rest, &judge)?,
+    };
     let c = candidates[i].clone();
     c.apply(w);
     w.restore(&moved);
+    if let Some(h) = helper {
+        c.apply(h);
+        h.restore(&moved);
+    }
     Some(c)
+}
+
+/// Makes change `c`, smooths round it and measures its region before
+/// and after; the score `accept` gives it and where the nodes went, if
+/// it is good. The mesh is left as it was.
+fn judge_change<M, K>(
+    w: &mut Working,
+    c: &Change,
+    measure: &impl Fn(&Working, &[u32]) -> M,
+    accept: &impl Fn(M, M) -> Option<K>,
+) -> Option<(K, Vec<(u32, DVec2)>)> {
+    let region = c.region(w);
+    let mut after_region = region.clone();
+    if let Change::Collapse { q, .. } = c {
+        after_region.retain(|r| r != q);
+    }
+    let saved = w.snapshot(&region);
+    let before = measure(w, &region);
+    c.apply(w);
+    let nodes = c.nodes(w);
+    w.smooth_locally(&nodes);
+    let good = accept(before, measure(w, &after_region)).map(|k| (k, w.snapshot(&after_region)));
+    c.revert(w);
+    w.restore(&saved);
+    good
+}
+
+/// The first of `ranked` that `judge` finds good (its index and where its
+/// nodes went). With a helper, one thread judges every other one on it:
+/// each stops at its first good one, or once the other found one ranked
+/// before; the earlier of the two is the one judging in turn finds.
+fn first_good<K: Send>(
+    w: &mut Working,
+    helper: &mut Option<Working>,
+    ranked: &[usize],
+    judge: &(impl Fn(&mut Working, usize) -> Option<(K, Vec<(u32, DVec2)>)> + Sync),
+) -> Option<(usize, Vec<(u32, DVec2)>)> {
+    let Some(h) = helper.as_mut().filter(|_| ranked.len() > 1) else {
+        return ranked
+            .iter()
+            .find_map(|&i| judge(w, i).map(|(_, moved)| (i, moved)));
+    };
+    let found = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    let search = |w: &mut Working, first: usize| {
+        for rank in (first..ranked.len()).step_by(2) {
+            if rank > found.load(std::sync::atomic::Ordering::SeqCst) {
+                return None;
+            }
+            if let Some((_, moved)) = judge(w, ranked[rank]) {
+                found.fetch_min(rank, std::sync::atomic::Ordering::SeqCst);
+                return Some((rank, moved));
+            }
+        }
+        None
+    };
+    let (mine, theirs) = std::thread::scope(|scope| {
+        let other = scope.spawn(|| search(h, 1));
+        let mine = search(w, 0);
+        // a judging that panicked is a defect: let it surface as one
+        let theirs = other
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (mine, theirs)
+    });
+    let (rank, moved) = match (mine, theirs) {
+        (Some(a), Some(b)) => {
+            if a.0 < b.0 {
+                a
+            } else {
+                b
+            }
+        }
+        (a, b) => a.or(b)?,
+    };
+    Some((ranked[rank], moved))
 }
 
 /// Half a degree better, or every corner brought into the bounds, or
@@ -696,6 +802,46 @@ mod tests {
             });
         }
         m
+    }
+
+    #[test]
+    fn changes_judged_on_two_threads_are_the_changes_judged_on_one() {
+        // a 30 x 30 grid, its inner nodes pushed hard: many bad elements,
+        // some of them with every change judged
+        let n = 30;
+        let mut m = Mesh::default();
+        let mut seed: u64 = 7;
+        let mut noise = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for y in 0..=n {
+            for x in 0..=n {
+                let inner = x > 0 && y > 0 && x < n && y < n;
+                let p = DVec2::new(x as f64, y as f64);
+                if inner {
+                    m.add_node(p + DVec2::new(noise(), noise()) * 0.9, NodeKind::Interior);
+                } else {
+                    m.add_node(p, NodeKind::Boundary);
+                }
+            }
+        }
+        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
+        for y in 0..n {
+            for x in 0..n {
+                m.quads
+                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        let (mut one, mut two) = (m.clone(), m.clone());
+        let (s1, t1) = clean_up_on(&mut one, None, false);
+        let (s2, t2) = clean_up_on(&mut two, None, true);
+        assert!(s1.flips + s1.collapses > 0);
+        assert_eq!((s1.flips, s1.collapses, t1), (s2.flips, s2.collapses, t2));
+        assert_eq!(one.quads, two.quads);
+        assert_eq!(one.nodes, two.nodes);
     }
 
     #[test]
