@@ -493,7 +493,7 @@ fn clean_up_on(
     let mut touched: Vec<u32> = Vec::new();
     let mut copy = side_by_side.then(|| mesh.clone());
     let mut w = Working::new(mesh);
-    let mut helper = copy.as_mut().map(|m| Working::new(m));
+    let mut helper = copy.as_mut().map(Working::new);
     let look_at: Vec<u32> = match near {
         None => (0..w.mesh.quads.len() as u32).collect(),
         Some(nodes) => w.elements_near(nodes, NEAR_RINGS),
