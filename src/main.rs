@@ -51,6 +51,7 @@ fn repl(args: cli::ReplArgs) -> Result<()> {
     use freemesh::repl::{Flow, Repl};
     use std::io::{BufRead, IsTerminal, Write};
     let mut kb = load_kb(&args.kb)?;
+    kb.load_query_libraries()?;
     let mut session = Repl::new(&mut kb, args.size);
     let mut out = std::io::stdout();
     if let Some(d) = &args.domain {

@@ -386,6 +386,17 @@ fn repl_answers_front_queries_and_goes_on_after_a_malformed_one() {
 }
 
 #[test]
+fn repl_has_the_libraries_a_prolog_prompt_has() {
+    // the machines are built without the engine's toplevel; the REPL
+    // loads what it would have brought
+    let o = repl(&[], "format(\"~a\", [x]).\nmust_be(integer, 1).\n:quit\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(!out.contains("unknown_procedure"), "{out}");
+    assert_eq!(out.matches("true.").count(), 2, "{out}");
+}
+
+#[test]
 fn repl_refuses_a_bad_domain_at_the_start_with_one_line() {
     let o = repl(&["tests/inputs/no-such-domain.json"], ":quit\n");
     assert_eq!(o.status.code(), Some(1));
