@@ -137,9 +137,23 @@ pub fn to_msh(mesh: &Mesh) -> String {
     for i in 0..n {
         let _ = writeln!(s, "{}", i + 1);
     }
-    for p in &mesh.nodes {
-        let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
-    }
+    // the coordinates (most of the writing: the shortest exact form of
+    // each float) in two halves side by side
+    let (first, second) = mesh.nodes.split_at(n / 2);
+    let coordinates = |half: &[glam::DVec2]| {
+        let mut t = String::with_capacity(48 * half.len());
+        for p in half {
+            let _ = writeln!(t, "{:?} {:?} 0", p.x, p.y);
+        }
+        t
+    };
+    let (a, b) = std::thread::scope(|scope| {
+        let b = scope.spawn(|| coordinates(second));
+        let a = coordinates(first);
+        (a, b.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+    });
+    s.push_str(&a);
+    s.push_str(&b);
     s.push_str("$EndNodes\n");
     let mut by_group: Vec<Vec<(u32, u32)>> = vec![Vec::new(); ng];
     for e in &mesh.boundary {
