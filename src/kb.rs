@@ -139,7 +139,7 @@ pub struct KbStats {
 
 /// Batches of new questions smaller than this are answered by the first
 /// engine alone: handing work over costs about a question's time.
-const SPLIT_FROM: usize = 4;
+const SPLIT_FROM: usize = 2;
 
 /// Renders a term as Prolog text (atoms quoted when needed).
 pub fn term_text(t: &Term) -> String {
