@@ -770,6 +770,16 @@ mod tests {
     use crate::geometry::quad_angles;
     use crate::mesh::BoundaryEdge;
 
+    /// A fixed sequence of numbers in [-0.5, 0.5) from `seed`.
+    fn noise(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
     /// How far the worst corner of the mesh is past [45, 135] (degrees).
     fn worst_corner(m: &Mesh) -> f64 {
         (0..m.quads.len())
@@ -810,13 +820,7 @@ mod tests {
         // some of them with every change judged
         let n = 30;
         let mut m = Mesh::default();
-        let mut seed: u64 = 7;
-        let mut noise = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut noise = noise(7);
         for y in 0..=n {
             for x in 0..=n {
                 let inner = x > 0 && y > 0 && x < n && y < n;
@@ -904,13 +908,7 @@ mod tests {
     #[test]
     fn the_clean_up_never_makes_a_corner_worse_nor_breaks_the_mesh() {
         // the grid's four free nodes pushed about, a fixed sequence
-        let mut seed: u64 = 7;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = noise(7);
         let (mut tried, mut changed) = (0, 0);
         for _ in 0..40 {
             let mut m = grid_with_sliver();
