@@ -742,16 +742,7 @@ fn first_good<K: Send>(
             .unwrap_or_else(|e| std::panic::resume_unwind(e));
         (mine, theirs)
     });
-    let (rank, moved) = match (mine, theirs) {
-        (Some(a), Some(b)) => {
-            if a.0 < b.0 {
-                a
-            } else {
-                b
-            }
-        }
-        (a, b) => a.or(b)?,
-    };
+    let (rank, moved) = mine.into_iter().chain(theirs).min_by_key(|r| r.0)?;
     Some((ranked[rank], moved))
 }
 
@@ -818,27 +809,7 @@ mod tests {
     fn changes_judged_on_two_threads_are_the_changes_judged_on_one() {
         // a 30 x 30 grid, its inner nodes pushed hard: many bad elements,
         // some of them with every change judged
-        let n = 30;
-        let mut m = Mesh::default();
-        let mut noise = noise(7);
-        for y in 0..=n {
-            for x in 0..=n {
-                let inner = x > 0 && y > 0 && x < n && y < n;
-                let p = DVec2::new(x as f64, y as f64);
-                if inner {
-                    m.add_node(p + DVec2::new(noise(), noise()) * 0.9, NodeKind::Interior);
-                } else {
-                    m.add_node(p, NodeKind::Boundary);
-                }
-            }
-        }
-        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-        for y in 0..n {
-            for x in 0..n {
-                m.quads
-                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
+        let (m, _) = crate::smoothing::tests::pushed_grid(30, 0.45);
         let (mut one, mut two) = (m.clone(), m.clone());
         let (s1, t1) = clean_up_on(&mut one, None, false);
         let (s2, t2) = clean_up_on(&mut two, None, true);

@@ -1325,9 +1325,7 @@ impl<'k> Mesher<'k> {
     fn push_quad(&mut self, q: [u32; 4]) {
         let qi = self.mesh.quads.len() as u32;
         if let Some(owner) = &mut self.edge_owner {
-            for i in 0..4 {
-                owner.insert((q[i], q[(i + 1) % 4]), qi);
-            }
+            own_edges(owner, q, qi);
         }
         self.mesh.quads.push(q);
     }
@@ -1343,9 +1341,7 @@ impl<'k> Mesher<'k> {
                 }
             }
             if let Some(&moved) = self.mesh.quads.get(qi) {
-                for i in 0..4 {
-                    owner.insert((moved[i], moved[(i + 1) % 4]), qi as u32);
-                }
+                own_edges(owner, moved, qi as u32);
             }
         }
         q
@@ -1358,10 +1354,8 @@ impl<'k> Mesher<'k> {
         self.edge_owner.get_or_insert_with(|| {
             let mut owner =
                 HashMap::with_capacity_and_hasher(4 * quads.len() + 1024, Default::default());
-            for (qi, q) in quads.iter().enumerate() {
-                for i in 0..4 {
-                    owner.insert((q[i], q[(i + 1) % 4]), qi as u32);
-                }
+            for (qi, &q) in quads.iter().enumerate() {
+                own_edges(&mut owner, q, qi as u32);
             }
             owner
         })
@@ -2268,6 +2262,13 @@ fn distinct(ids: &[u32]) -> bool {
     let mut v = ids.to_vec();
     v.sort_unstable();
     v.windows(2).all(|w| w[0] != w[1])
+}
+
+/// Notes element `qi` (corners `q`) as the owner of its directed edges.
+fn own_edges(owner: &mut HashMap<(u32, u32), u32>, q: [u32; 4], qi: u32) {
+    for i in 0..4 {
+        owner.insert((q[i], q[(i + 1) % 4]), qi);
+    }
 }
 
 fn convex_ok(q: &[DVec2; 4]) -> bool {

@@ -1004,7 +1004,7 @@ fn even_out_pair(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::quad_angles;
 
@@ -1068,7 +1068,7 @@ mod tests {
 
     /// A grid of n x n unit squares, its inner nodes pushed off the grid
     /// by up to `push` (a fixed pseudo-random sequence).
-    fn pushed_grid(n: usize, push: f64) -> (Mesh, Vec<DVec2>) {
+    pub(crate) fn pushed_grid(n: usize, push: f64) -> (Mesh, Vec<DVec2>) {
         let mut m = Mesh::default();
         let mut seed: u64 = 12345;
         let mut next = || {
