@@ -1,21 +1,10 @@
-//! Plane geometry with robust predicates: orientation, segment relations,
+//! Plane geometry with robust predicates: orient2d, segment relations,
 //! interior angles and the point-segment relation of the paper (Fig. 10).
 //!
 //! Signs near zero are decided by Shewchuk's adaptive-precision `orient2d`
 //! (the `robust` crate), never by a plain floating-point product.
 
 use glam::DVec2;
-
-/// The orientation of three points.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Orientation {
-    /// `c` lies left of the directed line `a`→`b`.
-    CounterClockwise,
-    /// `c` lies right of it.
-    Clockwise,
-    /// The three points are exactly collinear.
-    Collinear,
-}
 
 fn coord(p: DVec2) -> robust::Coord<f64> {
     robust::Coord { x: p.x, y: p.y }
@@ -25,26 +14,6 @@ fn coord(p: DVec2) -> robust::Coord<f64> {
 /// sign is right (Shewchuk's orient2d).
 pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     robust::orient2d(coord(a), coord(b), coord(c))
-}
-
-/// The orientation of `c` relative to the directed line `a`→`b`.
-///
-/// # Examples
-/// ```
-/// use freemesh::geometry::{orientation, Orientation};
-/// use glam::DVec2;
-/// let o = orientation(DVec2::ZERO, DVec2::X, DVec2::Y);
-/// assert_eq!(o, Orientation::CounterClockwise);
-/// ```
-pub fn orientation(a: DVec2, b: DVec2, c: DVec2) -> Orientation {
-    let d = orient2d(a, b, c);
-    if d > 0.0 {
-        Orientation::CounterClockwise
-    } else if d < 0.0 {
-        Orientation::Clockwise
-    } else {
-        Orientation::Collinear
-    }
 }
 
 /// How two closed segments meet.

@@ -6,157 +6,10 @@
 //! goes to. Lengths in actions are relative to |N1N2|; angles in degrees.
 
 use glam::DVec2;
-use scryer_prolog::Term;
-use std::fmt;
 
-use crate::kb::{fmt_float, term_number, term_text};
-
-/// Which of the element's new corners.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Corner {
-    /// N3.
-    N3,
-    /// N4.
-    N4,
-}
-
-/// A design action, as the KB answers it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Action {
-    /// a1: add three lines; new N4 at angle phi1 from N1 and distance l4,
-    /// new N3 at angle phi2 from N2 and distance l2.
-    A1 {
-        /// Inner corner at N1 (deg).
-        phi1: f64,
-        /// Inner corner at N2 (deg).
-        phi2: f64,
-        /// |N2N3| / |N1N2|.
-        l2: f64,
-        /// |N1N4| / |N1N2|.
-        l4: f64,
-    },
-    /// a2: add two lines from N2 and N4 at phi2 and phi4; they meet at N3.
-    A2 {
-        /// Inner corner at N2 (deg).
-        phi2: f64,
-        /// Inner corner at N4 (deg).
-        phi4: f64,
-    },
-    /// a3: link N3 and N4 (both on the front).
-    A3,
-    /// a4: N3 at the centre of the block, (N2 + N4 + N6)/3.
-    A4,
-    /// The action applied on the next edge along (redesign rules Rd10, Rd12).
-    Shift(Box<Action>),
-    /// The action with a new corner replaced by the nearest front node.
-    Merge(Corner, Box<Action>),
-}
-
-impl Action {
-    /// Reads an action term (`a1(P1, P2, L2, L4)`, `a2(P2, P4)`, `a3`, `a4`,
-    /// `shift(1, A)`, `merge(n3, A)`).
-    pub fn from_term(t: &Term) -> Option<Action> {
-        let nums = |args: &[Term]| -> Option<Vec<f64>> { args.iter().map(term_number).collect() };
-        match t {
-            Term::Atom(a) if a == "a3" => Some(Action::A3),
-            Term::Atom(a) if a == "a4" => Some(Action::A4),
-            Term::Compound(f, args) => match (f.as_str(), args.len()) {
-                ("a1", 4) => {
-                    let v = nums(args)?;
-                    Some(Action::A1 {
-                        phi1: v[0],
-                        phi2: v[1],
-                        l2: v[2],
-                        l4: v[3],
-                    })
-                }
-                ("a2", 2) => {
-                    let v = nums(args)?;
-                    Some(Action::A2 {
-                        phi2: v[0],
-                        phi4: v[1],
-                    })
-                }
-                ("shift", 2) if term_number(&args[0]) == Some(1.0) => {
-                    Some(Action::Shift(Box::new(Action::from_term(&args[1])?)))
-                }
-                ("merge", 2) => {
-                    let c = match &args[0] {
-                        Term::Atom(a) if a == "n3" => Corner::N3,
-                        Term::Atom(a) if a == "n4" => Corner::N4,
-                        _ => return None,
-                    };
-                    Some(Action::Merge(c, Box::new(Action::from_term(&args[1])?)))
-                }
-                _ => None,
-            },
-            _ => None,
-        }
-    }
-
-    /// The paper's name of the action kind: a1, a2, a3, a4.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Action::A1 { .. } => "a1",
-            Action::A2 { .. } => "a2",
-            Action::A3 => "a3",
-            Action::A4 => "a4",
-            Action::Shift(a) | Action::Merge(_, a) => a.kind(),
-        }
-    }
-
-    /// Checks the parameters are usable (finite, angles in (0, 180)).
-    pub fn is_sound(&self) -> bool {
-        let ang = |x: f64| x.is_finite() && x > 0.0 && x < 180.0;
-        match self {
-            Action::A1 { phi1, phi2, l2, l4 } => {
-                ang(*phi1)
-                    && ang(*phi2)
-                    && l2.is_finite()
-                    && *l2 > 0.0
-                    && l4.is_finite()
-                    && *l4 > 0.0
-            }
-            Action::A2 { phi2, phi4 } => ang(*phi2) && ang(*phi4),
-            Action::A3 | Action::A4 => true,
-            Action::Shift(a) | Action::Merge(_, a) => a.is_sound(),
-        }
-    }
-}
-
-fn r2(x: f64) -> f64 {
-    (x * 100.0).round() / 100.0
-}
-
-impl fmt::Display for Action {
-    /// Prolog text of the action (parameters rounded to 0.01 for the trace
-    /// and for queries).
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Action::A1 { phi1, phi2, l2, l4 } => {
-                write!(
-                    f,
-                    "a1({}, {}, {}, {})",
-                    fmt_float(r2(*phi1)),
-                    fmt_float(r2(*phi2)),
-                    fmt_float(r2(*l2)),
-                    fmt_float(r2(*l4))
-                )
-            }
-            Action::A2 { phi2, phi4 } => {
-                write!(f, "a2({}, {})", fmt_float(r2(*phi2)), fmt_float(r2(*phi4)))
-            }
-            Action::A3 => write!(f, "a3"),
-            Action::A4 => write!(f, "a4"),
-            Action::Shift(a) => write!(f, "shift(1, {a})"),
-            Action::Merge(c, a) => write!(
-                f,
-                "merge({}, {a})",
-                if *c == Corner::N3 { "n3" } else { "n4" }
-            ),
-        }
-    }
-}
+use crate::features::Labels;
+use crate::front::{Front, Fv};
+use crate::kb::Action;
 
 /// Positions of the labelled front nodes around an edge.
 #[derive(Debug, Clone, Copy)]
@@ -218,9 +71,84 @@ pub fn place(action: &Action, nb: &Neighbourhood) -> Option<(Option<DVec2>, Opti
     }
 }
 
-/// The action's term text for the trace.
-pub fn describe(t: &Term) -> String {
-    term_text(t)
+/// A corner of a candidate element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum QNode {
+    /// An occurrence on the front.
+    Front(Fv),
+    /// A new node.
+    New(DVec2),
+    /// A new corner replaced by this front occurrence.
+    Merged(Fv),
+}
+
+impl Neighbourhood {
+    /// The positions round a labelled edge.
+    pub fn of(front: &Front, nodes: &[DVec2], lab: &Labels) -> Neighbourhood {
+        let pos = |fv: Fv| nodes[front.node(fv) as usize];
+        Neighbourhood {
+            p7: pos(lab.n7),
+            p4: pos(lab.n4),
+            p1: pos(lab.n1),
+            p2: pos(lab.n2),
+            p5: pos(lab.n5),
+            side: if lab.mirrored { -1.0 } else { 1.0 },
+        }
+    }
+}
+
+/// The element of an action over the labelled edge: its corners
+/// N1 N2 N3 N4 (labelled order), or None if it cannot be placed.
+pub fn element(
+    front: &Front,
+    nodes: &[DVec2],
+    action: &Action,
+    lab: &Labels,
+) -> Option<[QNode; 4]> {
+    let nb = Neighbourhood::of(front, nodes, lab);
+    let (p3, p4) = place(action, &nb)?;
+    let n3 = match (action, p3) {
+        (Action::A3, _) => QNode::Front(lab.n5),
+        (_, Some(p)) => QNode::New(p),
+        _ => return None,
+    };
+    let n4 = match p4 {
+        Some(p) => QNode::New(p),
+        None => QNode::Front(lab.n4),
+    };
+    Some([QNode::Front(lab.n1), QNode::Front(lab.n2), n3, n4])
+}
+
+/// Where a corner of a candidate element is.
+pub fn qpos(front: &Front, nodes: &[DVec2], q: QNode) -> DVec2 {
+    match q {
+        QNode::Front(fv) | QNode::Merged(fv) => nodes[front.node(fv) as usize],
+        QNode::New(p) => p,
+    }
+}
+
+/// The node id of a corner of a candidate element (None: a new node).
+pub fn qnode_id(front: &Front, q: QNode) -> Option<u32> {
+    match q {
+        QNode::Front(fv) | QNode::Merged(fv) => Some(front.node(fv)),
+        QNode::New(_) => None,
+    }
+}
+
+/// Replaces the new corners N3 (slot 0) and N4 (slot 1) by the front
+/// occurrences they merge with.
+pub fn apply_merges(mut el: [QNode; 4], merges: &[Option<Fv>; 2]) -> [QNode; 4] {
+    for (slot, qi) in [(0usize, 2usize), (1, 3)] {
+        if let (Some(t), QNode::New(_)) = (merges[slot], el[qi]) {
+            el[qi] = QNode::Merged(t);
+        }
+    }
+    el
+}
+
+/// Whether a corner of the element was merged with a front node.
+pub fn is_merged(el: &[QNode; 4]) -> bool {
+    el.iter().any(|q| matches!(q, QNode::Merged(_)))
 }
 
 #[cfg(test)]
@@ -304,17 +232,5 @@ mod tests {
         };
         let (n3, _) = place(&Action::A4, &nb).unwrap();
         assert!((n3.unwrap() - DVec2::new(1.0, 1.0)).length() < 1e-12);
-    }
-
-    #[test]
-    fn action_terms_round_trip_through_text() {
-        let a = Action::Merge(
-            Corner::N3,
-            Box::new(Action::A2 {
-                phi2: 90.0,
-                phi4: 85.5,
-            }),
-        );
-        assert_eq!(a.to_string(), "merge(n3, a2(90.0, 85.5))");
     }
 }

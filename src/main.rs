@@ -8,8 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use freemesh::output::{render, write_all, Format};
-use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
+use freemesh::{mesh_domain, render, write_all, Domain, Format, KnowledgeBase, Options};
 
 // The engine and the mesher make many small, short-lived allocations;
 // mimalloc serves them faster than the system allocator.
@@ -48,7 +47,7 @@ fn run(cli: cli::Cli) -> Result<()> {
 }
 
 fn repl(args: cli::ReplArgs) -> Result<()> {
-    use freemesh::repl::{Flow, Repl};
+    use freemesh::{Flow, Repl};
     use std::io::{BufRead, IsTerminal, Write};
     let mut kb = load_kb(&args.kb)?;
     kb.load_query_libraries()?;
@@ -113,15 +112,15 @@ fn load_kb(files: &[PathBuf]) -> Result<KnowledgeBase> {
 
 fn quality(args: cli::QualityArgs) -> Result<()> {
     use std::io::Write;
-    let read = freemesh::mesh_reader::read_mesh(&args.mesh.to_string_lossy())?;
-    let q = freemesh::quality::measure(&read.mesh);
+    let read = freemesh::read_mesh(&args.mesh.to_string_lossy())?;
+    let q = freemesh::measure_quality(&read.mesh);
     let mut out = std::io::stdout().lock();
     if args.json {
         let v = serde_json::json!({
             "mesh": args.mesh,
             "quality": q,
             "other_faces": read.other_faces,
-            "angle_bins_10deg": freemesh::quality::angle_bins(&read.mesh),
+            "angle_bins_10deg": freemesh::angle_bins(&read.mesh),
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
@@ -149,7 +148,7 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
         q.max_aspect, q.max_taper, q.max_size_jump
     )?;
     writeln!(out, "corner angles (deg):")?;
-    write!(out, "{}", freemesh::quality::angle_histogram(&read.mesh))?;
+    write!(out, "{}", freemesh::angle_histogram(&read.mesh))?;
     Ok(())
 }
 

@@ -11,10 +11,10 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use crate::kb::{KbStats, KnowledgeBase, UserAnswer};
-use crate::mesher::Mesher;
-use crate::output::{to_svg, write_all};
-use crate::{finish, prepare_run, Domain, MeshResult, Options};
+use crate::input::domain::Domain;
+use crate::io::output::{to_svg, write_all};
+use crate::kb::{KnowledgeBase, UserAnswer};
+use crate::pipeline::{discretise_for_run, prepare_run, MeshResult, Options, Run};
 
 /// At most this many inferences for one answer of a user's query: a
 /// query that loops is an error, not a hung session.
@@ -71,7 +71,7 @@ enum State<'k> {
     /// No domain loaded.
     Idle(&'k mut KnowledgeBase),
     /// A run over a domain, at some step.
-    Meshing(Box<Mesher<'k>>),
+    Meshing(Box<Run<'k>>),
 }
 
 /// A REPL session: the KB, and the run over the loaded domain if any.
@@ -83,7 +83,6 @@ pub struct Repl<'k> {
     name: String,
     /// The finished mesh, once `:run` or `:step` completed it.
     finished: Option<MeshResult>,
-    kb_before: KbStats,
 }
 
 impl<'k> Repl<'k> {
@@ -91,7 +90,6 @@ impl<'k> Repl<'k> {
     /// `size` (their own when None).
     pub fn new(kb: &'k mut KnowledgeBase, size: Option<f64>) -> Repl<'k> {
         Repl {
-            kb_before: kb.stats,
             state: Some(State::Idle(kb)),
             size,
             trace: true,
@@ -103,27 +101,27 @@ impl<'k> Repl<'k> {
     fn kb(&mut self) -> &mut KnowledgeBase {
         match self.state.as_mut() {
             Some(State::Idle(kb)) => kb,
-            Some(State::Meshing(m)) => m.kb(),
+            Some(State::Meshing(run)) => run.mesher().kb(),
             None => unreachable!("the state is only taken inside load"),
         }
     }
 
     /// Loads a domain and starts a run over it; the previous run ends.
     /// On an error the session keeps what it had.
-    pub fn load(&mut self, path: &str) -> Result<String, crate::Error> {
+    pub fn load(&mut self, path: &str) -> Result<String, crate::pipeline::Error> {
         let domain = Domain::from_file(path)?;
-        let size = self.size;
-        let prepared = prepare_run(&domain, self.kb(), size)?;
+        let opts = Options::default().with_size(self.size);
+        let boundary = discretise_for_run(&domain, opts.size)?;
+        let prepared = prepare_run(&domain, boundary, self.kb(), &opts)?;
         let kb = match self.state.take() {
             Some(State::Idle(kb)) => kb,
-            Some(State::Meshing(m)) => m.into_kb(),
+            Some(State::Meshing(run)) => run.into_kb(),
             None => unreachable!("the state is only taken here"),
         };
-        self.kb_before = kb.stats;
-        let mut m = Box::new(Mesher::start_from(kb, prepared));
-        let published = m.publish_front();
-        let loops = m.front_node_loops();
-        self.state = Some(State::Meshing(m));
+        let mut run = Box::new(Run::start(kb, prepared));
+        let published = run.mesher().publish_front();
+        let loops = run.mesher_ref().front_node_loops();
+        self.state = Some(State::Meshing(run));
         self.finished = None;
         self.name = domain.name.clone();
         published?;
@@ -241,8 +239,8 @@ impl<'k> Repl<'k> {
         // the query may have asserted or retracted rules: answers kept
         // from before must be asked again
         self.kb().forget_answers();
-        if let Some(State::Meshing(m)) = self.state.as_mut() {
-            m.forget_answers();
+        if let Some(State::Meshing(run)) = self.state.as_mut() {
+            run.mesher().forget_answers();
         }
         if outcome.is_err() {
             error = Some("the Prolog engine failed on this query (its state may be damaged: :quit and start again if answers look wrong)".into());
@@ -271,8 +269,8 @@ impl<'k> Repl<'k> {
         match self.kb().consult_file(path) {
             Ok(n) => {
                 writeln!(out, "% consulted {path}: {n} clauses")?;
-                if let Some(State::Meshing(m)) = self.state.as_mut() {
-                    if let Err(e) = m.kb_changed() {
+                if let Some(State::Meshing(run)) = self.state.as_mut() {
+                    if let Err(e) = run.mesher().kb_changed() {
                         writeln!(out, "error: {}", one_line(&e.to_string()))?;
                     }
                 }
@@ -282,22 +280,24 @@ impl<'k> Repl<'k> {
         Ok(())
     }
 
-    /// Makes `n` more elements (None: to the end) and prints their trace.
+    /// Makes `n` more elements (None: to the end, and the mesh finished
+    /// as `mesh` finishes it) and prints their trace.
     fn advance(&mut self, n: Option<usize>, out: &mut dyn Write) -> io::Result<()> {
         let trace = self.trace;
-        let Some(State::Meshing(m)) = self.state.as_mut() else {
+        let Some(State::Meshing(run)) = self.state.as_mut() else {
             return writeln!(out, "error: no domain loaded (:load DOMAIN.json)");
         };
         if self.finished.is_some() {
             return writeln!(out, "% the mesh is complete");
         }
-        let (quads0, trace0) = (m.mesh.quads.len(), m.trace.len());
+        let quads = |run: &Run| run.mesher_ref().mesh().quads.len();
+        let (quads0, trace0) = (quads(run), run.mesher_ref().trace().len());
         let mut failure = None;
         loop {
-            if n.is_some_and(|n| m.mesh.quads.len() >= quads0 + n) {
+            if n.is_some_and(|n| quads(run) >= quads0 + n) {
                 break;
             }
-            match m.step() {
+            match run.step() {
                 Ok(true) => {}
                 Ok(false) => break,
                 Err(e) => {
@@ -307,38 +307,48 @@ impl<'k> Repl<'k> {
             }
         }
         if trace {
-            for t in &m.trace[trace0..] {
+            for t in &run.mesher_ref().trace()[trace0..] {
                 writeln!(out, "{}", t.to_text())?;
             }
         }
-        let made = m.mesh.quads.len() - quads0;
-        if let Err(e) = m.publish_front() {
+        let made = quads(run) - quads0;
+        if let Err(e) = run.mesher().publish_front() {
             failure.get_or_insert(e.to_string());
         }
         if let Some(e) = failure {
             return writeln!(out, "error: {}", one_line(&e));
         }
-        if !m.is_done() {
-            let loops = m.front_node_loops();
+        // stepping stops where the rules are stuck; :run goes on to the
+        // last resort, as `mesh` does
+        if let (Some(reason), Some(_)) = (run.stopped(), n) {
+            return writeln!(out, "error: {}", one_line(reason));
+        }
+        if !run.mesher_ref().is_done() && run.stopped().is_none() {
+            let loops = run.mesher_ref().front_node_loops();
             return writeln!(
                 out,
                 "% {made} element(s) made, {} in all; the front: {} segments in {} loop(s)",
-                m.mesh.quads.len(),
+                quads(run),
                 loops.iter().map(Vec::len).sum::<usize>(),
                 loops.len()
             );
         }
-        match finish(m, &Options::default(), self.kb_before) {
+        match run.finish() {
             Ok(r) => {
                 writeln!(
                     out,
-                    "% the mesh is complete: {} quads, {} nodes, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits",
+                    "% the mesh is complete: {} quads, {} nodes, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}",
                     r.quality.quads,
                     r.mesh.nodes.len(),
                     r.quality.min_angle,
                     r.quality.max_angle,
                     r.quality.pct_45_135,
-                    r.stats.fallback_splits
+                    r.stats.fallback_splits,
+                    if r.stats.triangle_fallbacks > 0 {
+                        " (the rules stopped: meshed whole by the triangle fallback)"
+                    } else {
+                        ""
+                    }
                 )?;
                 self.finished = Some(r);
             }
@@ -348,10 +358,10 @@ impl<'k> Repl<'k> {
     }
 
     fn print_front(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        let Some(State::Meshing(m)) = self.state.as_mut() else {
+        let Some(State::Meshing(run)) = self.state.as_mut() else {
             return writeln!(out, "error: no domain loaded (:load DOMAIN.json)");
         };
-        let loops = m.front_loop_angles();
+        let loops = run.mesher_ref().front_loop_angles();
         if loops.is_empty() {
             return writeln!(out, "% the front is empty: the domain is meshed");
         }
@@ -372,7 +382,10 @@ impl<'k> Repl<'k> {
         let name = self.name.clone();
         let text = match (&self.finished, self.state.as_ref()) {
             (Some(r), _) => to_svg(&r.mesh, &[], &name),
-            (None, Some(State::Meshing(m))) => to_svg(&m.mesh, &m.front_node_loops(), &name),
+            (None, Some(State::Meshing(run))) => {
+                let m = run.mesher_ref();
+                to_svg(m.mesh(), &m.front_node_loops(), &name)
+            }
             _ => return writeln!(out, "error: no domain loaded (:load DOMAIN.json)"),
         };
         match write_all(&[(Path::new(path).to_path_buf(), text)]) {

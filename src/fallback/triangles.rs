@@ -17,8 +17,8 @@ use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use std::collections::{HashMap, HashSet, VecDeque};
 
-use crate::boundary::Discretised;
-use crate::domain::Domain;
+use crate::input::boundary::Discretised;
+use crate::input::domain::Domain;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
 /// Why the last resort could not mesh (a defect: a valid domain always
@@ -58,7 +58,7 @@ pub fn mesh_by_triangles(
             group: e.group,
         });
     }
-    let chains: Vec<&crate::domain::Chain> = domain.chains().collect();
+    let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
     const SPLIT_ROUNDS: usize = 4;
     for round in 0..=SPLIT_ROUNDS {
         let last = round == SPLIT_ROUNDS;
@@ -147,7 +147,7 @@ fn triangles_to_quads(
         .iter()
         .map(|e| ((e.a.min(e.b), e.a.max(e.b)), e.group))
         .collect();
-    let chains: Vec<&crate::domain::Chain> = domain.chains().collect();
+    let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
     let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
     let mut mid = |mesh: &mut Mesh, a: u32, b: u32| -> u32 {
         let key = (a.min(b), a.max(b));
@@ -288,7 +288,7 @@ fn place_centre(mesh: &mut Mesh, tri: [u32; 3], g: u32, quads: [usize; 3]) -> bo
 }
 
 /// The point of the chain's curves nearest to `p`.
-fn project_on_chain(chain: &crate::domain::Chain, p: DVec2) -> DVec2 {
+fn project_on_chain(chain: &crate::input::domain::Chain, p: DVec2) -> DVec2 {
     chain
         .edges
         .iter()

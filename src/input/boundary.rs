@@ -4,8 +4,8 @@
 
 use glam::DVec2;
 
-use crate::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
+use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
 /// The fewest segments a curve may have: one per 60 deg of arc.
@@ -95,6 +95,7 @@ pub struct Discretised {
     /// a cut or an inner line).
     pub front_loop: Vec<u32>,
     /// The cutting lines made, as node paths (for the trace and pictures).
+    #[allow(dead_code)] // no stage reads it yet
     pub cuts: Vec<Vec<u32>>,
 }
 

@@ -1,86 +1,39 @@
-//! The knowledge base: scryer-prolog embedded as a library, loaded with the
-//! built-in rules of `kb/*.pl` and the user's `--kb` files, and the queries
-//! the mesher asks of it.
+//! The engine: scryer-prolog embedded as a library, loaded with the
+//! built-in rules of `kb/*.pl` and the user's `--kb` files; it runs the
+//! questions `questions.rs` asks and the queries a user types.
 //!
 //! The engine has no API for Rust predicates, so the split is: the KB
 //! answers with action terms whose parameters it computes itself, and the
-//! host executes them (see `design.rs`). Answers to the hot queries depend
+//! host executes them (see `initial_design.rs`). Answers to the hot queries depend
 //! only on the text of the query, so they are memoised by that text: the
 //! mesh and the trace are the same as without the cache, and the engine's
 //! per-query memory (it keeps ~2 bytes a query character) stays bounded.
 
 use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, Term};
 
-use crate::second_engine::{Answer, Question, SecondEngine};
+use crate::kb::error::KbError;
+use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
+use crate::kb::terms::{
+    atom_or_text, binding_pair, fault_to_error, prolog_quoted, term_number, term_text,
+    user_query_question,
+};
 use std::collections::{BTreeMap, HashMap};
-use std::fmt::Write as _;
 
 /// The built-in knowledge base, in load order (file name, text).
 pub const BUILTIN_KB: &[(&str, &str)] = &[
-    ("kb/strategy.pl", include_str!("../kb/strategy.pl")),
-    ("kb/geometry.pl", include_str!("../kb/geometry.pl")),
-    ("kb/features.pl", include_str!("../kb/features.pl")),
-    ("kb/design.pl", include_str!("../kb/design.pl")),
-    ("kb/redesign.pl", include_str!("../kb/redesign.pl")),
-    ("kb/patterns.pl", include_str!("../kb/patterns.pl")),
-    ("kb/front.pl", include_str!("../kb/front.pl")),
+    ("kb/strategy.pl", include_str!("../../kb/strategy.pl")),
+    ("kb/geometry.pl", include_str!("../../kb/geometry.pl")),
+    ("kb/features.pl", include_str!("../../kb/features.pl")),
+    ("kb/design.pl", include_str!("../../kb/design.pl")),
+    ("kb/redesign.pl", include_str!("../../kb/redesign.pl")),
+    ("kb/patterns.pl", include_str!("../../kb/patterns.pl")),
+    ("kb/front.pl", include_str!("../../kb/front.pl")),
 ];
 
-const LOADER: &str = include_str!("kb_loader.pl");
+const LOADER: &str = include_str!("loader.pl");
 
 /// Predicates a `--kb` file replaces instead of extending.
-pub const SETTINGS: &[&str] = &["strategy/1", "bound/2"];
-
-/// An error of the knowledge base: loading a file or answering a query.
-#[derive(Debug, thiserror::Error)]
-pub enum KbError {
-    /// A KB file could not be read.
-    #[error("{path}: cannot read: {message}")]
-    Read {
-        /// The file.
-        path: String,
-        /// Why.
-        message: String,
-    },
-    /// A KB file has a clause the KB refuses (syntax error, unknown action...).
-    #[error("{path}:{line}: {reason}")]
-    Clause {
-        /// The file.
-        path: String,
-        /// Its line (0 when unknown).
-        line: u64,
-        /// What is wrong, in Prolog's words.
-        reason: String,
-    },
-    /// A query raised an exception in a rule.
-    #[error("knowledge base: {query} raised {error}")]
-    Query {
-        /// The predicate asked.
-        query: String,
-        /// The exception term.
-        error: String,
-    },
-    /// A rule threw or ran past the inference limit while meshing.
-    #[error("knowledge base: the rule {rule} {why} on {context}")]
-    Rule {
-        /// The rule at fault (`feature(b6)`, `feature_action(b6)`, ...).
-        rule: String,
-        /// What it did.
-        why: String,
-        /// The question it was asked (the edge's context, ...).
-        context: String,
-    },
-    /// A query answered with something the host cannot use.
-    #[error("knowledge base: {query} answered {answer}, which is not {expected}")]
-    Answer {
-        /// The predicate asked.
-        query: String,
-        /// What it answered.
-        answer: String,
-        /// What was expected.
-        expected: String,
-    },
-}
+const SETTINGS: &[&str] = &["strategy/1", "bound/2"];
 
 /// One answer's bindings.
 pub type Bindings = BTreeMap<String, Term>;
@@ -93,22 +46,6 @@ pub enum UserAnswer {
     Bindings(Vec<(String, String)>),
     /// A syntax error, an exception or a runaway, in Prolog's words.
     Error(String),
-}
-
-fn atom_or_text(t: &Term) -> String {
-    match t {
-        Term::Atom(a) => a.clone(),
-        other => term_text(other),
-    }
-}
-
-fn binding_pair(t: &Term) -> Option<(String, String)> {
-    match t {
-        Term::Compound(f, args) if f == "=" && args.len() == 2 => {
-            Some((atom_or_text(&args[0]), atom_or_text(&args[1])))
-        }
-        _ => None,
-    }
 }
 
 /// The engine with its rules loaded.
@@ -140,137 +77,6 @@ pub struct KbStats {
 /// Batches of new questions smaller than this are answered by the first
 /// engine alone: handing work over costs about a question's time.
 const SPLIT_FROM: usize = 2;
-
-/// Renders a term as Prolog text (atoms quoted when needed).
-pub fn term_text(t: &Term) -> String {
-    let mut s = String::new();
-    write_term(&mut s, t);
-    s
-}
-
-fn atom_needs_quotes(a: &str) -> bool {
-    let mut ch = a.chars();
-    match ch.next() {
-        None => true,
-        Some(c) if c.is_ascii_lowercase() => {
-            !a.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        }
-        _ => {
-            !matches!(a, "[]" | "!" | ";" | "{}" | "," | "|")
-                && !a.chars().all(|c| "+-*/\\^<>=~:.?@#&$".contains(c))
-        }
-    }
-}
-
-fn write_term(s: &mut String, t: &Term) {
-    match t {
-        Term::Integer(i) => {
-            let _ = write!(s, "{i}");
-        }
-        Term::Rational(r) => {
-            let _ = write!(s, "{r}");
-        }
-        Term::Float(f) => s.push_str(&fmt_float(*f)),
-        Term::Atom(a) => {
-            if atom_needs_quotes(a) {
-                let _ = write!(s, "'{}'", a.replace('\\', "\\\\").replace('\'', "\\'"));
-            } else {
-                s.push_str(a);
-            }
-        }
-        Term::String(st) => {
-            let _ = write!(s, "{st:?}");
-        }
-        Term::List(l) => {
-            s.push('[');
-            for (i, x) in l.iter().enumerate() {
-                if i > 0 {
-                    s.push(',');
-                }
-                write_term(s, x);
-            }
-            s.push(']');
-        }
-        Term::Compound(f, args) => {
-            if args.len() == 2 && matches!(f.as_str(), "/" | ":" | "-" | "=" | "+" | "*") {
-                write_term(s, &args[0]);
-                s.push_str(f);
-                write_term(s, &args[1]);
-                return;
-            }
-            write_term(s, &Term::Atom(f.clone()));
-            s.push('(');
-            for (i, x) in args.iter().enumerate() {
-                if i > 0 {
-                    s.push_str(", ");
-                }
-                write_term(s, x);
-            }
-            s.push(')');
-        }
-        Term::Var(v) => s.push_str(v),
-        _ => s.push_str("_"),
-    }
-}
-
-/// A float as Prolog text (always with a dot, exponents as `1.0e-5`).
-pub fn fmt_float(f: f64) -> String {
-    if !f.is_finite() {
-        return "0.0".into();
-    }
-    if let Some(s) = fmt_thousandths(f) {
-        return s;
-    }
-    let s = format!("{f:?}");
-    if s.contains('e') && !s.contains('.') {
-        s.replacen('e', ".0e", 1)
-    } else {
-        s
-    }
-}
-
-/// `fmt_float` of a number that is a whole number of thousandths (the
-/// mesher's angles and rounded ratios), written from the integer: the
-/// same text as the shortest form Rust writes, for a fraction of its cost.
-fn fmt_thousandths(f: f64) -> Option<String> {
-    let k = (f * 1000.0).round();
-    if k.abs() >= 1e12 || k / 1000.0 != f {
-        return None;
-    }
-    let k = k as i64;
-    let (whole, mut frac) = ((k / 1000).abs(), (k % 1000).abs());
-    let sign = if f < 0.0 || (f == 0.0 && f.is_sign_negative()) {
-        "-"
-    } else {
-        ""
-    };
-    let mut digits = 3;
-    while digits > 1 && frac % 10 == 0 {
-        frac /= 10;
-        digits -= 1;
-    }
-    Some(format!("{sign}{whole}.{frac:0digits$}"))
-}
-
-/// The numeric value of a number term.
-pub fn term_number(t: &Term) -> Option<f64> {
-    match t {
-        Term::Integer(i) => i.to_string().parse().ok(),
-        Term::Float(f) => Some(*f),
-        Term::Rational(r) => {
-            let s = r.to_string();
-            match s.split_once('/') {
-                Some((a, b)) => Some(a.trim().parse::<f64>().ok()? / b.trim().parse::<f64>().ok()?),
-                None => s.parse().ok(),
-            }
-        }
-        _ => None,
-    }
-}
-
-fn prolog_quoted(s: &str) -> String {
-    format!("'{}'", s.replace('\\', "\\\\").replace('\'', "\\'"))
-}
 
 impl KnowledgeBase {
     /// A machine with the built-in KB loaded (about 0.1-0.2 s: build it
@@ -320,12 +126,12 @@ impl KnowledgeBase {
 
     /// Runs a query the host wrote (well-formed by construction) and
     /// returns every answer's bindings. An exception is an error.
-    pub fn run(&mut self, query: &str) -> Result<Vec<Bindings>, KbError> {
+    pub(crate) fn run(&mut self, query: &str) -> Result<Vec<Bindings>, KbError> {
         self.run_limited(query, usize::MAX)
     }
 
     /// Like `run`, stopping after `limit` answers.
-    pub fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
+    fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
         let t0 = std::time::Instant::now();
         self.stats.engine_queries += 1;
         let mut out = Vec::new();
@@ -367,8 +173,7 @@ impl KnowledgeBase {
             text.push_str(" .");
         }
         self.trust_rules_no_more();
-        let codes: Vec<String> = text.chars().map(|c| (c as u32).to_string()).collect();
-        let q = format!("fm_repl_query([{}], {limit}, A).", codes.join(","));
+        let q = user_query_question(&text, limit);
         for answer in self.machine.run_query(q) {
             let answer = match answer {
                 Ok(LeafAnswer::LeafAnswer { mut bindings, .. }) => match bindings.remove("A") {
@@ -403,13 +208,17 @@ impl KnowledgeBase {
     /// Asks one of the mesher's bounded questions (`fm_design/2`,
     /// `fm_redesign/4`, `fm_patterns/2` of the loader), memoised by text:
     /// the first answer's `R`, or the rule at fault as an error.
-    pub fn ask_bounded(&mut self, query: &str, context: &str) -> Result<Option<Term>, KbError> {
+    pub(super) fn ask_bounded(
+        &mut self,
+        query: &str,
+        context: &str,
+    ) -> Result<Option<Term>, KbError> {
         let ans = self.ask_cached(query, "R")?;
         fault_to_error(ans, context)
     }
 
     /// Like `ask_bounded`, for a caller that memoises the answers itself.
-    pub fn ask_bounded_fresh(
+    pub(super) fn ask_bounded_fresh(
         &mut self,
         query: &str,
         context: &str,
@@ -453,7 +262,14 @@ impl KnowledgeBase {
     /// a core to spare and a run of more than a fraction of a second.
     pub fn start_second_engine(&mut self) {
         let user_files = self.files[BUILTIN_KB.len()..].to_vec();
-        self.second = Some(SecondEngine::start(user_files));
+        // the engine is built on the thread that uses it (it cannot move)
+        self.second = Some(SecondEngine::start(move || {
+            let mut kb = KnowledgeBase::builtin().ok()?;
+            for f in &user_files {
+                kb.consult_file(f).ok()?;
+            }
+            Some(Box::new(kb) as Box<dyn Answerer>)
+        }));
     }
 
     /// Waits until the second engine is loaded; false if there is none,
@@ -473,7 +289,7 @@ impl KnowledgeBase {
     /// `ask_bounded_fresh` for each question, in order. A batch of
     /// `SPLIT_FROM` or more is shared with the second engine when there
     /// is one and it is ready: both take questions in turn.
-    pub fn ask_bounded_fresh_all(&mut self, questions: Vec<Question>) -> Vec<Answer> {
+    pub(super) fn ask_bounded_fresh_all(&mut self, questions: Vec<Question>) -> Vec<Answer> {
         let ready = self.second.as_ref().and_then(SecondEngine::is_ready);
         match ready {
             Some(true) if questions.len() >= SPLIT_FROM => {
@@ -505,7 +321,7 @@ impl KnowledgeBase {
     }
 
     /// The first answer's binding of `var`, memoised by query text.
-    pub fn ask_cached(&mut self, query: &str, var: &str) -> Result<Option<Term>, KbError> {
+    pub(super) fn ask_cached(&mut self, query: &str, var: &str) -> Result<Option<Term>, KbError> {
         if let Some(t) = self.cache.get(query) {
             self.stats.cached_queries += 1;
             return Ok(t.clone());
@@ -571,87 +387,17 @@ impl KnowledgeBase {
             self.second = None;
         })
     }
-
-    /// The recursion strategy: feature names in the order they are tried.
-    pub fn strategy(&mut self) -> Result<Vec<String>, KbError> {
-        let t = self
-            .run("strategy(S).")?
-            .into_iter()
-            .next()
-            .and_then(|mut b| b.remove("S"));
-        match t {
-            Some(Term::List(items)) => items
-                .iter()
-                .map(|x| match x {
-                    Term::Atom(a) => Ok(a.clone()),
-                    other => Err(KbError::Answer {
-                        query: "strategy/1".into(),
-                        answer: term_text(other),
-                        expected: "a feature name".into(),
-                    }),
-                })
-                .collect(),
-            other => Err(KbError::Answer {
-                query: "strategy/1".into(),
-                answer: other
-                    .map(|t| term_text(&t))
-                    .unwrap_or_else(|| "nothing".into()),
-                expected: "a list of feature names".into(),
-            }),
-        }
-    }
-
-    /// A numeric setting `bound(Name, Value)`.
-    pub fn bound(&mut self, name: &str) -> Result<f64, KbError> {
-        let t = self
-            .run(&format!("bound({name}, V)."))?
-            .into_iter()
-            .next()
-            .and_then(|mut b| b.remove("V"));
-        t.as_ref()
-            .and_then(term_number)
-            .ok_or_else(|| KbError::Answer {
-                query: format!("bound({name}, _)"),
-                answer: t.map(|t| term_text(&t)).unwrap_or_else(|| "nothing".into()),
-                expected: "a number".into(),
-            })
-    }
 }
 
-/// The answer of a bounded question, or the rule at fault as an error.
-fn fault_to_error(ans: Option<Term>, context: &str) -> Result<Option<Term>, KbError> {
-    match &ans {
-        Some(Term::Compound(f, args)) if f == "fault" && args.len() == 2 => {
-            let why = match &args[1] {
-                Term::Compound(r, e) if r == "raised" && e.len() == 1 => {
-                    format!("raised {}", term_text(&e[0]))
-                }
-                _ => "ran past the inference limit (2,000,000 inferences)".to_string(),
-            };
-            Err(KbError::Rule {
-                rule: term_text(&args[0]),
-                why,
-                context: context.to_string(),
-            })
-        }
-        _ => Ok(ans),
+impl Answerer for KnowledgeBase {
+    fn answer(&mut self, (query, context): &Question) -> Answer {
+        self.ask_bounded_fresh(query, context)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn thousandths_are_written_as_rust_writes_them() {
-        for k in -3_000_000i64..3_000_000 {
-            let f = k as f64 / 1000.0;
-            assert_eq!(fmt_thousandths(f), Some(format!("{f:?}")), "{k}");
-        }
-        assert_eq!(fmt_thousandths(-0.0).as_deref(), Some("-0.0"));
-        assert_eq!(fmt_thousandths(0.1 + 0.2), None);
-        assert_eq!(fmt_float(1e-5), "1.0e-5");
-    }
 
     const DESIGN_B1: &str = "fm_design(ctx(180, 180, 180, 180, 180, 1.0, 1.0), R).";
 
@@ -683,5 +429,66 @@ mod tests {
         let mut kb = KnowledgeBase::builtin().unwrap();
         kb.consult_file("tests/kb/strategy-b2-first.pl").unwrap();
         assert!(kb.run("fm_only_built_in_rules_.").unwrap().is_empty());
+    }
+
+    fn design_question(ctx: &str) -> Question {
+        (format!("fm_design({ctx}, R)."), ctx.to_string())
+    }
+
+    #[test]
+    fn a_shared_batch_gets_the_answers_one_engine_gives() {
+        let questions: Vec<Question> = [90, 120, 150, 180, 200, 240, 270, 300]
+            .iter()
+            .flat_map(|t| {
+                [
+                    design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")),
+                    design_question(&format!("ctx(90, 180, 90, {t}, 90, 0.8, 1.2)")),
+                ]
+            })
+            .collect();
+        let mut alone = KnowledgeBase::builtin().unwrap();
+        let expected: Vec<String> = questions
+            .iter()
+            .map(|(q, c)| format!("{:?}", alone.ask_bounded_fresh(q, c).unwrap()))
+            .collect();
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.start_second_engine();
+        let t0 = std::time::Instant::now();
+        // share until the second engine has answered some (it may be slow
+        // to start on a busy machine)
+        while kb.stats.second_engine_queries == 0 {
+            let got: Vec<String> = kb
+                .ask_bounded_fresh_all(questions.clone())
+                .into_iter()
+                .map(|a| format!("{:?}", a.unwrap()))
+                .collect();
+            assert_eq!(got, expected);
+            assert!(
+                t0.elapsed() < std::time::Duration::from_secs(60),
+                "the second engine never answered"
+            );
+        }
+    }
+
+    #[test]
+    fn a_rule_at_fault_is_named_whichever_engine_asks() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.consult_file("tests/kb/throws-on-a-reflex-corner.pl")
+            .unwrap();
+        kb.start_second_engine();
+        let questions: Vec<Question> = (265..=275)
+            .map(|t| design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")))
+            .collect();
+        let t0 = std::time::Instant::now();
+        while kb.stats.second_engine_queries == 0 {
+            for a in kb.ask_bounded_fresh_all(questions.clone()) {
+                let e = a.unwrap_err().to_string();
+                assert!(e.contains("the rule feature(b6) raised"), "{e}");
+            }
+            assert!(
+                t0.elapsed() < std::time::Duration::from_secs(60),
+                "the second engine never answered"
+            );
+        }
     }
 }

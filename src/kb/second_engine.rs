@@ -1,7 +1,7 @@
 //! A second engine, on a thread of its own, with the same rules as the
 //! first: when a change of the front raises several new design questions
 //! at once, both engines take questions from the batch in turn until none
-//! is left (see `KnowledgeBase::ask_bounded_fresh_all`). Both hold the same
+//! is left (see `KnowledgeBase::designs`). Both hold the same
 //! clauses and a design answer depends only on its question, so the mesh
 //! and the trace are the same as with one engine, whoever answers what.
 //!
@@ -16,13 +16,20 @@ use std::time::{Duration, Instant};
 
 use scryer_prolog::Term;
 
-use crate::kb::{KbError, KnowledgeBase};
+use crate::kb::error::KbError;
 
 /// A question: the query text and the context named if a rule fails.
 pub type Question = (String, String);
 
-/// An answer as `KnowledgeBase::ask_bounded_fresh` gives it.
+/// An answer: the first answer's `R`, or the rule at fault.
 pub type Answer = Result<Option<Term>, KbError>;
+
+/// An engine that answers questions (the knowledge base; each engine
+/// built on the thread that uses it).
+pub trait Answerer {
+    /// The answer to one question.
+    fn answer(&mut self, question: &Question) -> Answer;
+}
 
 /// A batch both engines work through: each takes the next question by
 /// `next` and files its answer; `done` counts the answers filed.
@@ -46,14 +53,14 @@ impl Batch {
 
     /// Answers questions of the batch until none is left to take;
     /// returns how many this engine answered.
-    fn work(&self, kb: &mut KnowledgeBase) -> u64 {
+    fn work(&self, kb: &mut dyn Answerer) -> u64 {
         let mut mine = 0;
         loop {
             let i = self.next.fetch_add(1, Ordering::SeqCst);
-            let Some((q, ctx)) = self.questions.get(i) else {
+            let Some(question) = self.questions.get(i) else {
                 return mine;
             };
-            let answer = kb.ask_bounded_fresh(q, ctx);
+            let answer = kb.answer(question);
             if let Ok(mut answers) = self.answers.lock() {
                 answers[i] = Some(answer);
             }
@@ -93,12 +100,15 @@ pub struct SecondEngine {
 }
 
 impl SecondEngine {
-    /// Starts the thread: the built-in rules, then `user_files` in order.
-    pub fn start(user_files: Vec<String>) -> SecondEngine {
+    /// Starts the thread, which makes its engine by `make` (None: it
+    /// failed to load).
+    pub fn start(
+        make: impl FnOnce() -> Option<Box<dyn Answerer>> + Send + 'static,
+    ) -> SecondEngine {
         let (jobs, job_rx) = mpsc::channel();
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
-        std::thread::spawn(move || serve(user_files, job_rx, theirs));
+        std::thread::spawn(move || serve(make, job_rx, theirs));
         SecondEngine { jobs, shared }
     }
 
@@ -119,7 +129,7 @@ impl SecondEngine {
 
     /// Works through `questions` with `kb` while the second engine does
     /// the same; the answers in order, and how many the second engine gave.
-    pub fn share(&self, kb: &mut KnowledgeBase, questions: Vec<Question>) -> (Vec<Answer>, u64) {
+    pub fn share(&self, kb: &mut dyn Answerer, questions: Vec<Question>) -> (Vec<Answer>, u64) {
         let n = questions.len();
         let batch = Arc::new(Batch::new(questions));
         let handed = self.jobs.send(Arc::clone(&batch)).is_ok();
@@ -142,21 +152,19 @@ impl SecondEngine {
             .into_iter()
             .zip(&batch.questions)
             // a question the second engine took and never answered
-            .map(|(a, (q, ctx))| a.unwrap_or_else(|| kb.ask_bounded_fresh(q, ctx)))
+            .map(|(a, question)| a.unwrap_or_else(|| kb.answer(question)))
             .collect();
         (answers, theirs)
     }
 }
 
-fn serve(user_files: Vec<String>, jobs: Receiver<Arc<Batch>>, shared: Arc<Shared>) {
+fn serve(
+    make: impl FnOnce() -> Option<Box<dyn Answerer>>,
+    jobs: Receiver<Arc<Batch>>,
+    shared: Arc<Shared>,
+) {
     let _gone = GoneOnDrop(Arc::clone(&shared));
-    let kb = KnowledgeBase::builtin().and_then(|mut kb| {
-        for f in &user_files {
-            kb.consult_file(f)?;
-        }
-        Ok(kb)
-    });
-    let Ok(mut kb) = kb else {
+    let Some(mut kb) = make() else {
         return;
     };
     shared.ready.store(true, Ordering::SeqCst);
@@ -175,76 +183,10 @@ fn serve(user_files: Vec<String>, jobs: Receiver<Arc<Batch>>, shared: Arc<Shared
             Err(TryRecvError::Disconnected) => return,
         };
         let t0 = Instant::now();
-        batch.work(&mut kb);
+        batch.work(kb.as_mut());
         shared
             .nanos
             .fetch_add(t0.elapsed().as_nanos() as u64, Ordering::SeqCst);
         last = Instant::now();
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn design_question(ctx: &str) -> Question {
-        (format!("fm_design({ctx}, R)."), ctx.to_string())
-    }
-
-    #[test]
-    fn a_shared_batch_gets_the_answers_one_engine_gives() {
-        let questions: Vec<Question> = [90, 120, 150, 180, 200, 240, 270, 300]
-            .iter()
-            .flat_map(|t| {
-                [
-                    design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")),
-                    design_question(&format!("ctx(90, 180, 90, {t}, 90, 0.8, 1.2)")),
-                ]
-            })
-            .collect();
-        let mut alone = KnowledgeBase::builtin().unwrap();
-        let expected: Vec<String> = questions
-            .iter()
-            .map(|(q, c)| format!("{:?}", alone.ask_bounded_fresh(q, c).unwrap()))
-            .collect();
-        let mut kb = KnowledgeBase::builtin().unwrap();
-        kb.start_second_engine();
-        let t0 = Instant::now();
-        // share until the second engine has answered some (it may be slow
-        // to start on a busy machine)
-        while kb.stats.second_engine_queries == 0 {
-            let got: Vec<String> = kb
-                .ask_bounded_fresh_all(questions.clone())
-                .into_iter()
-                .map(|a| format!("{:?}", a.unwrap()))
-                .collect();
-            assert_eq!(got, expected);
-            assert!(
-                t0.elapsed() < Duration::from_secs(60),
-                "the second engine never answered"
-            );
-        }
-    }
-
-    #[test]
-    fn a_rule_at_fault_is_named_whichever_engine_asks() {
-        let mut kb = KnowledgeBase::builtin().unwrap();
-        kb.consult_file("tests/kb/throws-on-a-reflex-corner.pl")
-            .unwrap();
-        kb.start_second_engine();
-        let questions: Vec<Question> = (265..=275)
-            .map(|t| design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")))
-            .collect();
-        let t0 = Instant::now();
-        while kb.stats.second_engine_queries == 0 {
-            for a in kb.ask_bounded_fresh_all(questions.clone()) {
-                let e = a.unwrap_err().to_string();
-                assert!(e.contains("the rule feature(b6) raised"), "{e}");
-            }
-            assert!(
-                t0.elapsed() < Duration::from_secs(60),
-                "the second engine never answered"
-            );
-        }
     }
 }

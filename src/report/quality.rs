@@ -3,9 +3,9 @@
 //! midpoints of opposite edges), taper (larger ratio of opposite edge
 //! lengths), and the size jump between neighbours.
 
-use glam::DVec2;
 use rustc_hash::FxHashMap;
 
+use crate::element_quality::{aspect_taper, scaled_jacobian};
 use crate::geometry::quad_angles;
 use crate::mesh::Mesh;
 
@@ -28,34 +28,6 @@ pub struct Quality {
     pub max_taper: f64,
     /// Largest size jump between neighbours: sqrt of their area ratio.
     pub max_size_jump: f64,
-}
-
-/// Scaled Jacobian of a quad: the least, over its corners, of the sine of
-/// the corner angle (cross product of the unit edge vectors).
-pub fn scaled_jacobian(q: [DVec2; 4]) -> f64 {
-    (0..4)
-        .map(|i| {
-            let a = (q[(i + 1) % 4] - q[i]).normalize_or_zero();
-            let b = (q[(i + 3) % 4] - q[i]).normalize_or_zero();
-            a.perp_dot(b)
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Aspect ratio and taper of a quad (both >= 1).
-pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
-    let e: [f64; 4] = std::array::from_fn(|i| (q[(i + 1) % 4] - q[i]).length());
-    let ratio = |a: f64, b: f64| {
-        if a.min(b) <= 0.0 {
-            f64::INFINITY
-        } else {
-            a.max(b) / a.min(b)
-        }
-    };
-    let taper = ratio(e[0], e[2]).max(ratio(e[1], e[3]));
-    let m02 = ((q[0] + q[1]) / 2.0 - (q[2] + q[3]) / 2.0).length();
-    let m13 = ((q[1] + q[2]) / 2.0 - (q[3] + q[0]) / 2.0).length();
-    (ratio(m02, m13), taper)
 }
 
 /// The quality figures of a mesh.

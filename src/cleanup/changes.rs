@@ -1,0 +1,421 @@
+//! The clean-up's changes: the mesh with each node's elements kept up to
+//! date (`Working`), and the flips and collapses that may be made on it,
+//! each with what undoes it (`Change`).
+
+use glam::DVec2;
+
+use crate::element_quality::{sine_worst_around, sine_worst_around_under, worst_around};
+use crate::mesh::{Mesh, NodeKind};
+use crate::smoothing::compass_search_steps;
+
+/// A region's worst corner: (degrees past [45, 135], -smallest sine).
+/// An operation on the mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Op {
+    /// Flip the element's edge `k` (from corner k to corner k+1).
+    Flip(u8),
+    /// Join corner `k` onto the opposite corner k+2.
+    Collapse(u8),
+}
+
+pub(crate) type Worst = (f64, f64);
+
+/// The mesh with each node's elements, kept up to date through the
+/// operations; removed elements are left as holes until `finish`.
+pub(crate) struct Working<'m> {
+    pub(crate) mesh: &'m mut Mesh,
+    pub(crate) around: Vec<Vec<u32>>,
+    pub(crate) alive: Vec<bool>,
+    pub(crate) constrained: rustc_hash::FxHashSet<(u32, u32)>,
+}
+
+impl Working<'_> {
+    pub(crate) fn around_pairs(&self, n: u32) -> Vec<(u32, u8)> {
+        self.around[n as usize]
+            .iter()
+            .map(|&q| {
+                let c = self.mesh.quads[q as usize]
+                    .iter()
+                    .position(|&m| m == n)
+                    .unwrap_or(0);
+                (q, c as u8)
+            })
+            .collect()
+    }
+
+    pub(crate) fn set_quad(&mut self, q: u32, new: [u32; 4]) {
+        for &n in &self.mesh.quads[q as usize] {
+            self.around[n as usize].retain(|&x| x != q);
+        }
+        self.mesh.quads[q as usize] = new;
+        for &n in &new {
+            self.around[n as usize].push(q);
+        }
+    }
+
+    pub(crate) fn remove_quad(&mut self, q: u32) {
+        for &n in &self.mesh.quads[q as usize] {
+            self.around[n as usize].retain(|&x| x != q);
+        }
+        self.alive[q as usize] = false;
+    }
+
+    /// The worst corner over elements `qs` (infinite if one is not convex).
+    pub(crate) fn worst_of(&self, qs: &[u32]) -> Worst {
+        let pairs: Vec<(u32, u8)> = qs.iter().map(|&q| (q, 0)).collect();
+        worst_around(self.mesh, &pairs)
+    }
+
+    /// How far elements `qs` are past the paper's bounds on shape and size
+    /// as a share of each bound (aspect ratio and taper 10, size against a
+    /// neighbour's 2): at most 1 when within them.
+    pub(crate) fn shape_excess(&self, qs: &[u32]) -> f64 {
+        let area = |q: u32| crate::geometry::polygon_area(&self.mesh.quad_points(q as usize)).abs();
+        let mut worst: f64 = 0.0;
+        for &q in qs {
+            let (aspect, taper) =
+                crate::element_quality::aspect_taper(self.mesh.quad_points(q as usize));
+            worst = worst.max(aspect / 10.0).max(taper / 10.0);
+            let mine = area(q).max(1e-300);
+            for k in 0..4 {
+                if let Some((o, _)) = self.across(q, k) {
+                    let other = area(o).max(1e-300);
+                    worst = worst.max((mine / other).max(other / mine).sqrt() / 2.0);
+                }
+            }
+        }
+        worst
+    }
+
+    /// The elements round the nodes of elements `qs`.
+    pub(crate) fn region(&self, qs: &[u32]) -> Vec<u32> {
+        let mut r: Vec<u32> = qs
+            .iter()
+            .flat_map(|&q| self.mesh.quads[q as usize])
+            .flat_map(|n| self.around[n as usize].iter().copied())
+            .collect();
+        r.sort_unstable();
+        r.dedup();
+        r
+    }
+
+    /// The positions of the nodes of elements `qs`, to put back.
+    pub(crate) fn snapshot(&self, qs: &[u32]) -> Vec<(u32, DVec2)> {
+        let mut nodes: Vec<u32> = qs
+            .iter()
+            .flat_map(|&q| self.mesh.quads[q as usize])
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+            .into_iter()
+            .map(|n| (n, self.mesh.nodes[n as usize]))
+            .collect()
+    }
+
+    pub(crate) fn restore(&mut self, saved: &[(u32, DVec2)]) {
+        for &(n, p) in saved {
+            self.mesh.nodes[n as usize] = p;
+        }
+    }
+
+    /// Two sweeps of the compass search over the free ones of `nodes`.
+    pub(crate) fn smooth_locally(&mut self, nodes: &[u32]) {
+        for _ in 0..2 {
+            for &n in nodes {
+                if self.mesh.kinds[n as usize] != NodeKind::Interior {
+                    continue;
+                }
+                let pairs = self.around_pairs(n);
+                let start = sine_worst_around(self.mesh, &pairs);
+                let best = compass_search_steps(
+                    self.mesh,
+                    n as usize,
+                    &pairs,
+                    start,
+                    |m, best| sine_worst_around_under(m, &pairs, best),
+                    |w, b| w < b,
+                    COMPASS_STEPS,
+                );
+                self.mesh.nodes[n as usize] = best;
+            }
+        }
+    }
+
+    pub(crate) fn edge_free(&self, a: u32, b: u32) -> bool {
+        !self.constrained.contains(&(a.min(b), a.max(b)))
+    }
+
+    /// The element across edge k of element q, and where the edge is in it.
+    pub(crate) fn across(&self, q: u32, k: usize) -> Option<(u32, usize)> {
+        let quad = self.mesh.quads[q as usize];
+        let (a, b) = (quad[k], quad[(k + 1) % 4]);
+        self.around[a as usize].iter().find_map(|&o| {
+            if o == q {
+                return None;
+            }
+            let oq = self.mesh.quads[o as usize];
+            (0..4)
+                .find(|&j| oq[j] == b && oq[(j + 1) % 4] == a)
+                .map(|j| (o, j))
+        })
+    }
+
+    /// The two other splits of the hexagon of q and the element across
+    /// its edge k: (q's new nodes, the other's new nodes) each.
+    pub(crate) fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
+        let quad = self.mesh.quads[q as usize];
+        let (u, v) = (quad[k], quad[(k + 1) % 4]);
+        if !self.edge_free(u, v) {
+            return None;
+        }
+        let (o, j) = self.across(q, k)?;
+        let oq = self.mesh.quads[o as usize];
+        // the hexagon, counter-clockwise, from v round q to u, round o
+        let h = [
+            v,
+            quad[(k + 2) % 4],
+            quad[(k + 3) % 4],
+            u,
+            oq[(j + 2) % 4],
+            oq[(j + 3) % 4],
+        ];
+        let mut seen = h.to_vec();
+        seen.sort_unstable();
+        seen.dedup();
+        if seen.len() < 6 {
+            return None;
+        }
+        let split = |d: usize| {
+            let i = |x: usize| h[(d + x) % 6];
+            [[i(0), i(1), i(2), i(3)], [i(3), i(4), i(5), i(0)]]
+        };
+        Some((o, [split(1), split(2)]))
+    }
+
+    /// Element q without corner k, joined onto corner k+2: the elements
+    /// changed (with their new nodes) and where the kept node goes; None
+    /// when it would spoil the boundary or the mesh.
+    pub(crate) fn collapse(&self, q: u32, k: usize) -> Option<(Vec<(u32, [u32; 4])>, u32, DVec2)> {
+        let quad = self.mesh.quads[q as usize];
+        let (gone, kept) = (quad[k], quad[(k + 2) % 4]);
+        let kinds = &self.mesh.kinds;
+        if kinds[gone as usize] != NodeKind::Interior {
+            return None;
+        }
+        if (0..4).any(|i| !self.edge_free(quad[i], quad[(i + 1) % 4])) {
+            return None;
+        }
+        // the two other corners keep an element each besides q
+        for side in [quad[(k + 1) % 4], quad[(k + 3) % 4]] {
+            if self.around[side as usize].len() < 2 {
+                return None;
+            }
+        }
+        let to = if kinds[kept as usize] == NodeKind::Interior {
+            (self.mesh.nodes[gone as usize] + self.mesh.nodes[kept as usize]) / 2.0
+        } else {
+            self.mesh.nodes[kept as usize]
+        };
+        let mut changed = Vec::new();
+        for &o in &self.around[gone as usize] {
+            if o == q {
+                continue;
+            }
+            let oq = self.mesh.quads[o as usize];
+            if oq.contains(&kept) {
+                return None; // it would lose a corner
+            }
+            changed.push((o, oq.map(|n| if n == gone { kept } else { n })));
+        }
+        Some((changed, kept, to))
+    }
+}
+
+/// A change the clean-up may make, with what undoes it.
+#[derive(Debug, Clone)]
+pub(crate) enum Change {
+    /// Elements q and o get new nodes.
+    Flip {
+        q: u32,
+        o: u32,
+        old: [[u32; 4]; 2],
+        new: [[u32; 4]; 2],
+    },
+    /// Element q goes, node `gone` joins `kept` (moved from `from` to
+    /// `to`).
+    Collapse {
+        q: u32,
+        kept: u32,
+        from: DVec2,
+        to: DVec2,
+        changed: Vec<(u32, [u32; 4], [u32; 4])>,
+    },
+}
+
+impl Change {
+    /// The elements it changes, as they are once it is made.
+    pub(crate) fn changed(&self) -> Vec<u32> {
+        match self {
+            Change::Flip { q, o, .. } => vec![*q, *o],
+            Change::Collapse { changed, .. } => changed.iter().map(|c| c.0).collect(),
+        }
+    }
+
+    /// The elements whose corners it changes, before it is made.
+    pub(crate) fn region(&self, w: &Working) -> Vec<u32> {
+        match self {
+            Change::Flip { q, o, .. } => w.region(&[*q, *o]),
+            Change::Collapse { q, .. } => w.region(&[*q]),
+        }
+    }
+
+    pub(crate) fn apply(&self, w: &mut Working) {
+        match self {
+            Change::Flip { q, o, new, .. } => {
+                w.set_quad(*q, new[0]);
+                w.set_quad(*o, new[1]);
+            }
+            Change::Collapse {
+                q,
+                kept,
+                to,
+                changed,
+                ..
+            } => {
+                w.remove_quad(*q);
+                for &(o, _, new) in changed {
+                    w.set_quad(o, new);
+                }
+                w.mesh.nodes[*kept as usize] = *to;
+            }
+        }
+    }
+
+    /// Undoes `apply` (nodes smoothed since are put back by the caller).
+    pub(crate) fn revert(&self, w: &mut Working) {
+        match self {
+            Change::Flip { q, o, old, .. } => {
+                w.set_quad(*q, old[0]);
+                w.set_quad(*o, old[1]);
+            }
+            Change::Collapse {
+                q,
+                kept,
+                from,
+                changed,
+                ..
+            } => {
+                for &(o, old, _) in changed {
+                    w.set_quad(o, old);
+                }
+                w.mesh.nodes[*kept as usize] = *from;
+                w.alive[*q as usize] = true;
+                for n in w.mesh.quads[*q as usize] {
+                    w.around[n as usize].push(*q);
+                }
+            }
+        }
+    }
+
+    /// The nodes to smooth once it is made.
+    pub(crate) fn nodes(&self, w: &Working) -> Vec<u32> {
+        let mut nodes: Vec<u32> = match self {
+            Change::Flip { new, .. } => new.concat(),
+            Change::Collapse { kept, .. } => w.around[*kept as usize]
+                .iter()
+                .flat_map(|&o| w.mesh.quads[o as usize])
+                .collect(),
+        };
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+}
+
+/// The changes operation `op` can make on element q.
+pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
+    match op {
+        Op::Flip(k) => match w.flips(q, k as usize) {
+            Some((o, splits)) => splits
+                .into_iter()
+                .map(|new| Change::Flip {
+                    q,
+                    o,
+                    old: [w.mesh.quads[q as usize], w.mesh.quads[o as usize]],
+                    new,
+                })
+                .collect(),
+            None => Vec::new(),
+        },
+        Op::Collapse(k) => match w.collapse(q, k as usize) {
+            Some((changed, kept, to)) => vec![Change::Collapse {
+                q,
+                kept,
+                from: w.mesh.nodes[kept as usize],
+                to,
+                changed: changed
+                    .into_iter()
+                    .map(|(o, new)| (o, w.mesh.quads[o as usize], new))
+                    .collect(),
+            }],
+            None => Vec::new(),
+        },
+    }
+}
+
+/// The compass search's step halvings when a change is judged (the
+/// smoothing after the clean-up refines the kept ones).
+pub(crate) const COMPASS_STEPS: usize = 4;
+
+impl<'m> Working<'m> {
+    pub(crate) fn new(mesh: &'m mut Mesh) -> Working<'m> {
+        let mut constrained = rustc_hash::FxHashSet::default();
+        for e in &mesh.boundary {
+            constrained.insert((e.a.min(e.b), e.a.max(e.b)));
+        }
+        let alive = vec![true; mesh.quads.len()];
+        let mut w = Working {
+            mesh,
+            around: Vec::new(),
+            alive,
+            constrained,
+        };
+        w.index();
+        w
+    }
+
+    /// The live elements within `rings` elements of these nodes.
+    pub(crate) fn elements_near(&self, nodes: &[u32], rings: usize) -> Vec<u32> {
+        let mut seen = vec![false; self.mesh.quads.len()];
+        let mut found: Vec<u32> = Vec::new();
+        let mut frontier: Vec<u32> = nodes.to_vec();
+        for _ in 0..rings {
+            let mut next = Vec::new();
+            for &n in &frontier {
+                for &q in &self.around[n as usize] {
+                    if !std::mem::replace(&mut seen[q as usize], true) {
+                        found.push(q);
+                        next.extend(self.mesh.quads[q as usize]);
+                    }
+                }
+            }
+            frontier = next;
+        }
+        found.sort_unstable();
+        found
+    }
+
+    /// Each node's live elements, worked out afresh.
+    pub(crate) fn index(&mut self) {
+        let mut around = vec![Vec::new(); self.mesh.nodes.len()];
+        for (q, quad) in self.mesh.quads.iter().enumerate() {
+            if self.alive[q] {
+                for &n in quad {
+                    around[n as usize].push(q as u32);
+                }
+            }
+        }
+        self.around = around;
+    }
+}

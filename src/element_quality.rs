@@ -1,0 +1,240 @@
+//! Element quality: one home for every measure of an element the stages
+//! judge by. Angles against the window [45, 135] (badness), the scaled
+//! Jacobian (smallest sine of a corner), aspect ratio and taper, and the
+//! size jump between neighbours; each also for the elements round a node.
+
+use glam::DVec2;
+
+use crate::geometry::{interior_angle, orient2d};
+use crate::mesh::Mesh;
+
+/// How far an element's worst corner is from the [45, 135] window
+/// (degrees; 0 inside it), or infinity if the element is not convex.
+pub(crate) fn badness(q: [DVec2; 4]) -> f64 {
+    for i in 0..4 {
+        if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
+            return f64::INFINITY;
+        }
+    }
+    // Most elements have every corner inside the window: |cos| <= cos 45
+    // at each, tested without trigonometry.
+    let inside = (0..4).all(|i| {
+        let a = q[(i + 1) % 4] - q[i];
+        let b = q[(i + 3) % 4] - q[i];
+        let d = a.dot(b);
+        2.0 * d * d <= a.length_squared() * b.length_squared()
+    });
+    if inside {
+        return 0.0;
+    }
+    worst_excess(q)
+}
+
+/// The angle of corner `i` of an element in degrees, as `quad_angles`
+/// measures it, or None when the corner is clearly inside [45, 135]:
+/// told without trigonometry, with a margin so that the answer is the
+/// same as measuring it.
+pub(crate) fn angle_unless_inside(q: &[DVec2; 4], i: usize) -> Option<f64> {
+    let a = q[(i + 1) % 4] - q[i];
+    let b = q[(i + 3) % 4] - q[i];
+    let d = a.dot(b);
+    if a.perp_dot(b) > 0.0 && 2.0 * d * d < (1.0 - 1e-9) * a.length_squared() * b.length_squared() {
+        return None;
+    }
+    Some(interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees())
+}
+
+/// How far the worst corner of an element is past [45, 135] (degrees).
+pub(crate) fn worst_excess(q: [DVec2; 4]) -> f64 {
+    (0..4)
+        .filter_map(|i| angle_unless_inside(&q, i))
+        .map(|a| (45.0 - a).max(a - 135.0).max(0.0))
+        .fold(0.0, f64::max)
+}
+
+/// An element's `badness` and its scaled Jacobian (smallest sine of a
+/// corner) together, the edge vectors worked out once: the same numbers
+/// as the two functions apart. None if the element is not convex.
+pub(crate) fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
+    for i in 0..4 {
+        if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
+            return None;
+        }
+    }
+    let e: [DVec2; 4] = std::array::from_fn(|i| q[(i + 1) % 4] - q[i]);
+    let unit = e.map(DVec2::normalize_or_zero);
+    let mut inside = true;
+    let mut min_sin = f64::INFINITY;
+    for i in 0..4 {
+        // corner i between e[i] and the reversed e[i - 1]
+        let (a, b) = (e[i], -e[(i + 3) % 4]);
+        let d = a.dot(b);
+        inside &= 2.0 * d * d <= a.length_squared() * b.length_squared();
+        min_sin = min_sin.min(unit[i].perp_dot(-unit[(i + 3) % 4]));
+    }
+    let bad = if inside { 0.0 } else { worst_excess(q) };
+    Some((bad, min_sin))
+}
+
+/// Minus the smallest sine of a corner of the elements round a node
+/// (infinite if one is not convex): the same order as `worst_around`
+/// (the corner farthest from a right angle has the smallest sine), for
+/// a fraction of its cost.
+pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        match convex_scaled_jacobian(mesh.quad_points(q as usize)) {
+            Some(s) => min_sin = min_sin.min(s),
+            None => return f64::INFINITY,
+        }
+    }
+    -min_sin
+}
+
+/// The smallest sine of a corner of a convex element, None if it is not
+/// convex (plain arithmetic: for comparing places, not for the check).
+pub(crate) fn convex_scaled_jacobian(q: [DVec2; 4]) -> Option<f64> {
+    let e: [DVec2; 4] = std::array::from_fn(|i| q[(i + 1) % 4] - q[i]);
+    let inv = e.map(|v| 1.0 / v.length());
+    let mut min_sin = f64::INFINITY;
+    for i in 0..4 {
+        let j = (i + 3) % 4;
+        // corner i, between e[i] and e[j] reversed
+        let cross = e[j].perp_dot(e[i]);
+        if !(cross > 0.0) {
+            return None;
+        }
+        min_sin = min_sin.min(cross * inv[i] * inv[j]);
+    }
+    Some(min_sin)
+}
+
+/// The worst corner of the elements round a node: (badness, -smallest
+/// sine of a corner), smaller is better; infinite if one is not convex.
+pub(crate) fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
+    let mut bad: f64 = 0.0;
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        let Some((b, s)) = badness_and_sine(mesh.quad_points(q as usize)) else {
+            return (f64::INFINITY, f64::INFINITY);
+        };
+        bad = bad.max(b);
+        min_sin = min_sin.min(s);
+    }
+    (bad, -min_sin)
+}
+
+/// `worst_around` if it is better (smaller) than `best`, else None: the
+/// elements are judged one by one and the search gives up on a place at
+/// the first that shows it no better (both parts only grow).
+pub(crate) fn worst_around_under(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    best: (f64, f64),
+) -> Option<(f64, f64)> {
+    let mut bad: f64 = 0.0;
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        let (b, s) = badness_and_sine(mesh.quad_points(q as usize))?;
+        bad = bad.max(b);
+        min_sin = min_sin.min(s);
+        if !((bad, -min_sin) < best) {
+            return None;
+        }
+    }
+    Some((bad, -min_sin))
+}
+
+/// `sine_worst_around` if it is smaller than `best`, else None (judged
+/// element by element, as `worst_around_under`).
+pub(crate) fn sine_worst_around_under(mesh: &Mesh, around: &[(u32, u8)], best: f64) -> Option<f64> {
+    let mut min_sin = f64::INFINITY;
+    for &(q, _) in around {
+        min_sin = min_sin.min(convex_scaled_jacobian(mesh.quad_points(q as usize))?);
+        if !(-min_sin < best) {
+            return None;
+        }
+    }
+    Some(-min_sin)
+}
+
+/// True when every corner of the elements round a node has a sine above
+/// 0.8 (between 53 and 127 degrees, so convex and inside [45, 135]):
+/// the common case, told without trigonometry.
+pub(crate) fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
+    around.iter().all(|&(q, _)| {
+        let p = mesh.quad_points(q as usize);
+        (0..4).all(|i| {
+            let a = p[(i + 1) % 4] - p[i];
+            let b = p[(i + 3) % 4] - p[i];
+            let d = a.dot(b);
+            a.perp_dot(b) > 0.0 && d * d < 0.36 * a.length_squared() * b.length_squared()
+        })
+    })
+}
+
+/// How many corners of the elements round a node are outside [45, 135].
+pub(crate) fn corners_outside(mesh: &Mesh, around: &[(u32, u8)]) -> usize {
+    around
+        .iter()
+        .map(|&(q, _)| {
+            let p = mesh.quad_points(q as usize);
+            (0..4)
+                .filter_map(|i| angle_unless_inside(&p, i))
+                .filter(|a| !(45.0..=135.0).contains(a))
+                .count()
+        })
+        .sum()
+}
+
+/// How far an element is past the paper's bounds on size and shape, as a
+/// share of each bound: its size against each neighbour's (factor 2, the
+/// square root of the area ratio), its taper and aspect ratio (10). At
+/// most 1 when within them. `area` gives each element's area.
+pub(crate) fn size_shape_excess(
+    mesh: &Mesh,
+    q: u32,
+    neighbours: &[Option<u32>; 4],
+    area: &dyn Fn(u32) -> f64,
+) -> f64 {
+    let (aspect, taper) = aspect_taper(mesh.quad_points(q as usize));
+    let mut worst = (aspect / 10.0).max(taper / 10.0);
+    let mine = area(q).max(1e-300);
+    for f in neighbours.iter().flatten() {
+        let other = area(*f).max(1e-300);
+        worst = worst.max((mine / other).max(other / mine).sqrt() / 2.0);
+    }
+    worst
+}
+
+pub(crate) fn quad_area(mesh: &Mesh, q: u32) -> f64 {
+    crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs()
+}
+
+/// Scaled Jacobian of a quad: the least, over its corners, of the sine of
+/// the corner angle (cross product of the unit edge vectors).
+pub fn scaled_jacobian(q: [DVec2; 4]) -> f64 {
+    (0..4)
+        .map(|i| {
+            let a = (q[(i + 1) % 4] - q[i]).normalize_or_zero();
+            let b = (q[(i + 3) % 4] - q[i]).normalize_or_zero();
+            a.perp_dot(b)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Aspect ratio and taper of a quad (both >= 1).
+pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
+    let e: [f64; 4] = std::array::from_fn(|i| (q[(i + 1) % 4] - q[i]).length());
+    let ratio = |a: f64, b: f64| {
+        if a.min(b) <= 0.0 {
+            f64::INFINITY
+        } else {
+            a.max(b) / a.min(b)
+        }
+    };
+    let taper = ratio(e[0], e[2]).max(ratio(e[1], e[3]));
+    let m02 = ((q[0] + q[1]) / 2.0 - (q[2] + q[3]) / 2.0).length();
+    let m13 = ((q[1] + q[2]) / 2.0 - (q[3] + q[0]) / 2.0).length();
+    (ratio(m02, m13), taper)
+}

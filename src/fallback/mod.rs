@@ -1,0 +1,10 @@
+//! The fallbacks for where the rules get stuck, each confined to the
+//! stuck loop: chords (the loop subdivision), slits and pinches, taking
+//! elements back, rings; and the last resort for the whole domain,
+//! triangles split into quads.
+
+pub mod chords;
+pub mod rings;
+pub mod slits;
+pub mod triangles;
+pub mod unmesh;

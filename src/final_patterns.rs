@@ -1,0 +1,144 @@
+//! Final patterns: a loop of four segments is one element; a loop of six
+//! is closed by the first of the KB's patterns 1-3 (kb/patterns.pl) whose
+//! elements are convex and clear of the front. Patterns 1 and 2 add a node
+//! (Eq. 5 and 6).
+
+use glam::DVec2;
+
+use crate::features::deg_round;
+use crate::geometry::{orient2d, quad_angles};
+use crate::kb::{KbError, KnowledgeBase, PatternKind};
+use crate::partial_mesh::PartialMesh;
+use crate::report::trace::Angles;
+use crate::validity::{convex_ok, distinct, quad_clear};
+
+/// Closes loop `l` if it has four or six segments and a pattern fits;
+/// false otherwise.
+pub fn try_close_loop(
+    pm: &mut PartialMesh,
+    kb: &mut KnowledgeBase,
+    l: u32,
+) -> Result<bool, KbError> {
+    let n = pm.front.loop_len(l);
+    if n != 4 && n != 6 {
+        return Ok(false);
+    }
+    let fvs = pm.front.loop_fvs(l);
+    let ids: Vec<u32> = fvs.iter().map(|&f| pm.front.node(f)).collect();
+    let p: Vec<DVec2> = ids.iter().map(|&i| pm.mesh.nodes[i as usize]).collect();
+    let angles: Vec<f64> = fvs
+        .iter()
+        .map(|&f| deg_round(pm.front.angle(f, &pm.mesh.nodes)))
+        .collect();
+    let names = ["a1", "a2", "a3", "a4", "a5", "a6"];
+    let angle_map = Angles::new(names.into_iter().zip(angles.iter().copied()).collect());
+    if n == 4 {
+        let q = [p[0], p[1], p[2], p[3]];
+        if convex_ok(&q)
+            && distinct(&ids)
+            && quad_clear(
+                pm,
+                q,
+                &ids.iter().map(|&x| Some(x)).collect::<Vec<_>>(),
+                0.0,
+            )
+        {
+            let quad = [ids[0], ids[1], ids[2], ids[3]];
+            pm.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
+            return Ok(true);
+        }
+        return Ok(false);
+    }
+    if !distinct(&ids) {
+        return Ok(false);
+    }
+    for pat in kb.final_patterns(&angles)? {
+        let k = pat.start;
+        let at = |i: usize| (k + i) % 6; // the paper's N_{i+1}
+        let (quads, new_pts): (Vec<[usize; 4]>, Vec<DVec2>) = match pat.kind {
+            PatternKind::Three => (
+                vec![[at(2), at(3), at(4), at(5)], [at(5), at(0), at(1), at(2)]],
+                vec![],
+            ),
+            PatternKind::One | PatternKind::Two => {
+                let c = if pat.kind == PatternKind::One {
+                    (p[at(1)] + p[at(3)] + p[at(5)]) / 3.0
+                } else {
+                    (3.0 * p[at(2)] + 3.0 * p[at(4)] + p[at(1)] + p[at(5)]) / 8.0
+                };
+                // 6 stands for the new node
+                let quads = vec![
+                    [at(0), at(1), 6, at(5)],
+                    [at(1), at(2), at(3), 6],
+                    [at(3), at(4), at(5), 6],
+                ];
+                // where Eq. 5/6 gives a bad element, the builtin moves the
+                // node to the best place it finds in the loop
+                let c = best_centre(&p, &quads, c);
+                (quads, vec![c])
+            }
+        };
+        let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
+        let clear = quads.iter().all(|qd| convex_ok(&qd.map(pt)))
+            && quads.iter().all(|qd| {
+                let qids: Vec<Option<u32>> = qd
+                    .iter()
+                    .map(|&i| if i < 6 { Some(ids[i]) } else { None })
+                    .collect();
+                quad_clear(pm, qd.map(pt), &qids, 0.0)
+            });
+        if clear {
+            let base = pm.mesh.nodes.len() as u32;
+            let quads_ids: Vec<[u32; 4]> = quads
+                .iter()
+                .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
+                .collect();
+            pm.close_with(l, quads_ids, &new_pts, "final6", pat.text, angle_map);
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// The position of an inner node (index 6 in `quads`) that makes the
+/// elements convex with the largest smallest angle: `first` if it is good,
+/// else the best of a grid over the loop's bounding box.
+fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
+    // the smallest angle of the elements, or a value at most `floor` as
+    // soon as one shows the place no better than that
+    let score = |c: DVec2, floor: f64| -> f64 {
+        let pt = |i: usize| if i < p.len() { p[i] } else { c };
+        let mut worst = f64::MAX;
+        for q in quads {
+            let qp = q.map(pt);
+            let s = if (0..4).any(|i| orient2d(qp[i], qp[(i + 1) % 4], qp[(i + 2) % 4]) <= 0.0) {
+                -1.0
+            } else {
+                let a = quad_angles(qp);
+                a.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min)
+            };
+            worst = worst.min(s);
+            if worst <= floor {
+                break;
+            }
+        }
+        worst
+    };
+    let mut best = (score(first, f64::NEG_INFINITY), first);
+    if best.0 >= 30.0 {
+        return first;
+    }
+    let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
+    let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
+    let steps = 24;
+    for ix in 1..steps {
+        for iy in 1..steps {
+            let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
+            let sc = score(c, best.0);
+            if sc > best.0 {
+                best = (sc, c);
+            }
+        }
+    }
+    best.1
+}

@@ -1,0 +1,5 @@
+//! The input: the domain as the user wrote it, validated, and its boundary
+//! discretised with the cutting lines drawn.
+
+pub mod boundary;
+pub mod domain;

@@ -1,0 +1,20 @@
+//! The knowledge base: the engine with the rules loaded (`engine.rs`, a
+//! second engine beside it for batches, `second_engine.rs`, the loader
+//! `loader.pl` that checks a user's file and bounds every question), and
+//! the protocol the host speaks with it: typed questions
+//! (`questions.rs`) in the host's words (`vocabulary.rs`), whose text
+//! and answers are written and read in one place (`terms.rs`).
+
+mod engine;
+mod error;
+mod questions;
+mod second_engine;
+mod terms;
+mod vocabulary;
+
+pub use engine::{KbStats, KnowledgeBase, UserAnswer};
+pub use error::KbError;
+pub use vocabulary::{
+    Action, Context, Corner, Designed, ElementEdge, ElementNode, FrontFacts, PatternKind,
+    Redesigned, Relation,
+};

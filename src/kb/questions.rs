@@ -1,0 +1,154 @@
+//! The questions the host asks the knowledge base, typed: the host hands
+//! in its own values (a context, an action, the relations it measured, a
+//! loop's angles) and gets its own types back (a feature and action, a
+//! redesign, final patterns, the settings). The text of every question
+//! and the reading of every answer is in `terms.rs`; nothing else in the
+//! crate writes Prolog.
+
+use scryer_prolog::Term;
+
+use crate::kb::engine::KnowledgeBase;
+use crate::kb::error::KbError;
+use crate::kb::second_engine::Question;
+use crate::kb::terms;
+use crate::kb::vocabulary::{
+    Action, Context, Designed, FrontFacts, Pattern, PatternKind, Redesigned, Relation,
+};
+use crate::settings::Settings;
+
+impl KnowledgeBase {
+    /// The settings (`strategy/1`, `bound/2`), read once for a run.
+    pub fn settings(&mut self) -> Result<Settings, KbError> {
+        let strategy = self.first_binding(terms::STRATEGY_QUESTION, "S")?;
+        let strategy = terms::strategy_answer(strategy)?;
+        let rounds = self.bound("redesign_rounds")?;
+        Ok(Settings::new(strategy, rounds))
+    }
+
+    fn bound(&mut self, name: &str) -> Result<f64, KbError> {
+        let t = self.first_binding(&terms::bound_question(name), "V")?;
+        terms::bound_answer(name, t)
+    }
+
+    fn first_binding(&mut self, query: &str, var: &str) -> Result<Option<Term>, KbError> {
+        Ok(self
+            .run(query)?
+            .into_iter()
+            .next()
+            .and_then(|mut b| b.remove(var)))
+    }
+
+    /// The design of each context, in order: the feature and action, or
+    /// None where the edge shows no feature. One batch, which a second
+    /// engine may share (the answers do not depend on who gives them).
+    /// Not memoised here: the caller keeps the answers by context.
+    pub fn designs(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
+        // the context as text is for messages: written only for one
+        let questions: Vec<Question> = contexts
+            .iter()
+            .map(|c| (terms::design_question(c), String::new()))
+            .collect();
+        let answers = self.ask_bounded_fresh_all(questions);
+        contexts
+            .iter()
+            .zip(answers)
+            .map(|(ctx, answer)| read_design(ctx, answer))
+            .collect()
+    }
+
+    /// The feature and action the KB gives a context, as text for people
+    /// (`freemesh features`): None where the edge shows no feature.
+    pub fn design_text(
+        &mut self,
+        ctx: &Context,
+    ) -> Result<(Option<String>, Option<String>), KbError> {
+        let text = ctx.to_string();
+        let ans = self.ask_bounded(&terms::design_question_text(ctx), &text)?;
+        Ok(terms::design_answer_text(&ans))
+    }
+
+    /// The redesign rule that corrects `action` over the edge of `ctx`
+    /// given the relations the host measured, or None when none fires.
+    pub fn redesign(
+        &mut self,
+        ctx: &Context,
+        action: &Action,
+        relations: &[Relation],
+    ) -> Result<Option<Redesigned>, KbError> {
+        let query = terms::redesign_question(ctx, action, relations);
+        let Some(ans) = self.ask_bounded(&query, &ctx.to_string())? else {
+            return Ok(None);
+        };
+        let Some((rule, new)) = terms::redesign_answer(&ans) else {
+            return Ok(None);
+        };
+        match Action::from_term(new).filter(Action::is_sound) {
+            Some(action) => Ok(Some(Redesigned { rule, action })),
+            None => Err(KbError::Answer {
+                query: format!("redesign rule {rule}"),
+                answer: terms::term_text(new),
+                expected: "a known, sound action".into(),
+            }),
+        }
+    }
+
+    /// The final patterns that close a six-segment loop with these angles
+    /// (whole degrees, in loop order), best first.
+    pub fn final_patterns(&mut self, angles: &[f64]) -> Result<Vec<Pattern>, KbError> {
+        let list = terms::angle_list(angles);
+        let ans = self.ask_bounded(&terms::patterns_question(&list), &format!("[{list}]"))?;
+        Ok(terms::patterns_answer(ans)
+            .into_iter()
+            .filter_map(|(name, start, text)| {
+                let kind = match name.as_str() {
+                    "pattern1" => PatternKind::One,
+                    "pattern2" => PatternKind::Two,
+                    "pattern3" => PatternKind::Three,
+                    _ => return None,
+                };
+                Some(Pattern { kind, start, text })
+            })
+            .collect())
+    }
+
+    /// Whether the KB calls a front corner of `angle` degrees concave.
+    pub fn is_concave(&mut self, angle: f64) -> Result<bool, KbError> {
+        Ok(!self.run(&terms::concave_question(angle))?.is_empty())
+    }
+
+    /// States the live front to the KB as facts, replacing the last.
+    pub fn publish_front(&mut self, facts: &FrontFacts) -> Result<(), KbError> {
+        self.run(&terms::front_facts_statement(facts)).map(|_| ())
+    }
+}
+
+/// An answer to a design question, read: the rule at fault named with
+/// the context, an unknown or unsound action refused.
+fn read_design(
+    ctx: &Context,
+    answer: Result<Option<Term>, KbError>,
+) -> Result<Option<Designed>, KbError> {
+    let answer = answer.map_err(|e| match e {
+        KbError::Rule { rule, why, .. } => KbError::Rule {
+            rule,
+            why,
+            context: ctx.to_string(),
+        },
+        other => other,
+    });
+    let Some(ans) = answer? else {
+        return Ok(None);
+    };
+    let (feature, action) = match terms::design_answer(&ans) {
+        Some((feature, action)) => (feature, Action::from_term(action)),
+        None => (String::new(), None),
+    };
+    match action.filter(Action::is_sound) {
+        Some(action) => Ok(Some(Designed { feature, action })),
+        None => Err(KbError::Answer {
+            query: format!("feature_action({feature}) on {ctx}"),
+            answer: terms::term_text(&ans),
+            expected: "d(Feature, Action) with a known, sound action".into(),
+        }),
+    }
+}

@@ -1,0 +1,266 @@
+//! The state of the recursion, Ω_n = ⟨Q_i, Ω_{n−i}⟩ (Eq. 1): the elements
+//! made so far and the remaining domain's front, with the record of how
+//! they came to be (the trace and the counters). Every stage of the
+//! recursion (initial design, redesign, final patterns, the fallbacks)
+//! works on it.
+
+use glam::DVec2;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
+
+use crate::front::{Front, Fv};
+use crate::geometry::{orient2d, segments_intersect, SegmentRelation};
+use crate::input::boundary::Discretised;
+use crate::mesh::{Mesh, NodeKind};
+use crate::report::trace::{Angles, TraceStep};
+
+/// Counters of one meshing run.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct MeshStats {
+    /// Elements made by design actions.
+    pub designed: usize,
+    /// Elements made by final patterns.
+    pub closed: usize,
+    /// Loop splits by the fallback.
+    pub fallback_splits: usize,
+    /// Redesign rules fired.
+    pub redesigns: usize,
+    /// Merges of a new corner with a front node (fronts meeting).
+    pub merges: usize,
+    /// Elements taken back to give a stuck loop room.
+    pub unmeshed: usize,
+    /// Runs the rules could not finish, meshed whole by the last resort
+    /// (triangles split into quads, see fallback/triangles.rs).
+    pub triangle_fallbacks: usize,
+    /// Edges flipped by the clean-up (cleanup.rs).
+    pub cleanup_flips: usize,
+    /// Elements collapsed by the clean-up.
+    pub cleanup_collapses: usize,
+}
+
+/// The elements made so far and the remaining domain.
+pub struct PartialMesh {
+    /// The mesh built so far.
+    pub mesh: Mesh,
+    /// The remaining domain.
+    pub front: Front,
+    /// The inference trace (kept when `record_trace`).
+    pub trace: Vec<TraceStep>,
+    /// Whether steps are recorded in `trace` (they are always counted).
+    pub record_trace: bool,
+    /// Steps of the inference so far.
+    steps: usize,
+    /// Counters.
+    pub stats: MeshStats,
+    /// Past this many elements the run is a runaway.
+    pub max_elements: usize,
+    /// No element edge shorter than this: a third of the shortest input
+    /// segment, so elements cannot shrink without end.
+    pub min_edge: f64,
+    /// A buffer for the front's spatial queries.
+    pub scratch: Vec<Fv>,
+    /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
+    /// quadratic, for debugging the rules).
+    pub debug_check: bool,
+    /// Loops the design rules gave up on: only the fallback works on them
+    /// (and on the loops split from them), so the rules cannot remesh a
+    /// region they already failed in.
+    pub fallback_only: HashSet<u32>,
+    /// The element on the left of each directed element edge, kept as
+    /// elements come and go once the fallback first asks it (zipping
+    /// slits, taking back a layer); most runs never do.
+    edge_owner: Option<HashMap<(u32, u32), u32>>,
+    /// The area of the domain (what the finished mesh must cover).
+    pub area: f64,
+}
+
+impl PartialMesh {
+    /// The start of a run on a discretised domain with boundary size
+    /// `size` and area `area`: no element, the front the boundary; and
+    /// the number of elements expected.
+    pub fn new(disc: Discretised, size: f64, area: f64) -> (PartialMesh, usize) {
+        let mut front = Front::new(&disc.front_loop, size);
+        front.index_all(&disc.mesh.nodes);
+        let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
+        let shortest = disc
+            .mesh
+            .boundary
+            .iter()
+            .map(|e| (disc.mesh.nodes[e.a as usize] - disc.mesh.nodes[e.b as usize]).length())
+            .fold(size, f64::min);
+        // the run's tables sized for the elements expected: growing them
+        // step by step copies them over and over
+        let expected = estimate.min(4e6) as usize;
+        let mut mesh = disc.mesh;
+        mesh.quads.reserve(expected + expected / 8);
+        mesh.nodes.reserve(expected + expected / 8);
+        front.reserve(expected + expected / 8);
+        let pm = PartialMesh {
+            mesh,
+            front,
+            trace: Vec::new(),
+            record_trace: true,
+            steps: 0,
+            stats: MeshStats::default(),
+            max_elements: (estimate * 4.0) as usize + 1000,
+            min_edge: shortest / 3.0,
+            scratch: Vec::new(),
+            debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+            fallback_only: Default::default(),
+            edge_owner: None,
+            area,
+        };
+        (pm, expected)
+    }
+
+    /// The position of a front occurrence's node.
+    pub fn pos(&self, fv: Fv) -> DVec2 {
+        self.mesh.nodes[self.front.node(fv) as usize]
+    }
+
+    /// Counts a step of the inference and records it in the trace when
+    /// the trace is kept (`make` gets the step's number).
+    pub fn note_step(&mut self, make: impl FnOnce(usize) -> TraceStep) {
+        self.steps += 1;
+        if self.record_trace {
+            let step = make(self.steps);
+            self.trace.push(step);
+        }
+    }
+
+    /// Adds an element, noting it as the owner of its edges.
+    pub fn push_quad(&mut self, q: [u32; 4]) {
+        let qi = self.mesh.quads.len() as u32;
+        if let Some(owner) = &mut self.edge_owner {
+            own_edges(owner, q, qi);
+        }
+        self.mesh.quads.push(q);
+    }
+
+    /// Removes element `qi` (the last element takes its place).
+    pub fn remove_quad(&mut self, qi: usize) -> [u32; 4] {
+        let q = self.mesh.quads.swap_remove(qi);
+        if let Some(owner) = &mut self.edge_owner {
+            for i in 0..4 {
+                let e = (q[i], q[(i + 1) % 4]);
+                if owner.get(&e) == Some(&(qi as u32)) {
+                    owner.remove(&e);
+                }
+            }
+            if let Some(&moved) = self.mesh.quads.get(qi) {
+                own_edges(owner, moved, qi as u32);
+            }
+        }
+        q
+    }
+
+    /// The owners of the element edges, gathered the first time they are
+    /// asked for and kept from then on.
+    pub fn edge_owners(&mut self) -> &HashMap<(u32, u32), u32> {
+        let quads = &self.mesh.quads;
+        self.edge_owner.get_or_insert_with(|| {
+            let mut owner =
+                HashMap::with_capacity_and_hasher(4 * quads.len() + 1024, Default::default());
+            for (qi, &q) in quads.iter().enumerate() {
+                own_edges(&mut owner, q, qi as u32);
+            }
+            owner
+        })
+    }
+
+    /// The owners of the element edges if they were gathered.
+    pub fn edge_owners_if_kept(&self) -> Option<&HashMap<(u32, u32), u32>> {
+        self.edge_owner.as_ref()
+    }
+
+    /// Frees what only the recursion needs (the front, its index, the
+    /// element edges' owners) once it is done.
+    pub fn release_working_state(&mut self) {
+        self.front = Front::default();
+        self.edge_owner = None;
+    }
+
+    /// Closes loop `l` with `quads` (their corners are node ids; the
+    /// nodes `new_nodes` are added first), one trace step an element.
+    pub fn close_with(
+        &mut self,
+        l: u32,
+        quads: Vec<[u32; 4]>,
+        new_nodes: &[DVec2],
+        feature: &str,
+        action: String,
+        angles: Angles,
+    ) {
+        for &c in new_nodes {
+            self.mesh.add_node(c, NodeKind::Interior);
+        }
+        let head = self.front.loop_head(l);
+        let edge = [
+            self.front.node(head),
+            self.front.node(self.front.next(head)),
+        ];
+        self.front.begin();
+        self.front.close_loop(l);
+        self.front.commit(&self.mesh.nodes);
+        for q in quads {
+            self.push_quad(q);
+            if self.debug_check {
+                self.debug_overlap(self.mesh.quads.len() - 1);
+            }
+            self.stats.closed += 1;
+            self.note_step(|step| TraceStep {
+                step,
+                edge: edge.map(|x| x as i64),
+                angles: angles.clone(),
+                feature: feature.into(),
+                action: action.clone(),
+                redesign: vec![],
+                element: q.iter().map(|&x| x as i64).collect(),
+            });
+        }
+    }
+
+    /// A debugging aid: reports every element element `qi` overlaps.
+    pub fn debug_overlap(&self, qi: usize) {
+        let p = self.mesh.quad_points(qi);
+        for j in 0..qi {
+            let r = self.mesh.quad_points(j);
+            let inside =
+                |x: DVec2, q: &[DVec2; 4]| (0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], x) > 0.0);
+            let mut bad = p.iter().any(|&x| inside(x, &r)) || r.iter().any(|&x| inside(x, &p));
+            for a in 0..4 {
+                for b in 0..4 {
+                    if segments_intersect(p[a], p[(a + 1) % 4], r[b], r[(b + 1) % 4])
+                        == SegmentRelation::Cross
+                    {
+                        bad = true;
+                    }
+                }
+            }
+            if bad {
+                eprintln!(
+                    "DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}",
+                    self.mesh.quads[qi],
+                    self.mesh.quads[j],
+                    self.steps + 1
+                );
+            }
+        }
+    }
+
+    /// Each open loop of the front in loop order, as `each` reads its
+    /// occurrences.
+    pub fn map_front_loops<T>(&self, each: impl Fn(Fv) -> T) -> Vec<Vec<T>> {
+        self.front
+            .live_loops()
+            .iter()
+            .map(|&l| self.front.loop_fvs(l).into_iter().map(&each).collect())
+            .collect()
+    }
+}
+
+/// Notes element `qi` (corners `q`) as the owner of its directed edges.
+fn own_edges(owner: &mut HashMap<(u32, u32), u32>, q: [u32; 4], qi: u32) {
+    for i in 0..4 {
+        owner.insert((q[i], q[(i + 1) % 4]), qi);
+    }
+}

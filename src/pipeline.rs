@@ -1,0 +1,507 @@
+//! The stages of a run in order, the one path every caller takes (`mesh`,
+//! a batch, the REPL's `:run`): prepare (discretise the boundary, draw
+//! the cutting lines, read the settings), the recursion (features,
+//! initial design, redesign, final patterns, the fallbacks for stuck
+//! loops), the last resort where the recursion stops short, smoothing,
+//! clean-up, the check and the quality figures.
+
+use std::time::Instant;
+
+use crate::cleanup;
+use crate::fallback::triangles::{mesh_by_triangles, FallbackError};
+use crate::features::FrontFeatures;
+use crate::input::boundary::{self, Discretised};
+use crate::input::domain::{self, Domain, DomainError};
+use crate::kb::{KbError, KbStats, KnowledgeBase};
+use crate::mesh::Mesh;
+use crate::partial_mesh::MeshStats;
+use crate::recursion::{MeshError, Mesher, Prepared};
+use crate::report::check::{self, MeshCheckError};
+use crate::report::quality::{self, Quality};
+use crate::report::trace::TraceStep;
+use crate::smoothing;
+
+/// How many times at most the clean-up and the smoothing round its
+/// changes run after the smoothing stage.
+const CLEANUP_ROUNDS: usize = 3;
+
+/// Options of one meshing run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Replaces the domain's `size`.
+    pub size: Option<f64>,
+    /// Replaces the domain's `max_size`.
+    pub max_size: Option<f64>,
+    /// Sweeps of Laplace smoothing (Eq. 4).
+    pub smoothing_passes: usize,
+    /// Whether the inference trace is kept (`MeshResult::trace`); a run
+    /// that writes no trace saves its time and memory.
+    pub trace: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            size: None,
+            max_size: None,
+            smoothing_passes: 30,
+            trace: true,
+        }
+    }
+}
+
+impl Options {
+    /// Sets the boundary size.
+    pub fn with_size(mut self, size: Option<f64>) -> Self {
+        self.size = size;
+        self
+    }
+    /// Sets the largest interior size.
+    pub fn with_max_size(mut self, max_size: Option<f64>) -> Self {
+        self.max_size = max_size;
+        self
+    }
+    /// Keeps the inference trace, or not.
+    pub fn with_trace(mut self, trace: bool) -> Self {
+        self.trace = trace;
+        self
+    }
+}
+
+/// Any error of a meshing run.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The domain is invalid.
+    #[error(transparent)]
+    Domain(#[from] DomainError),
+    /// The knowledge base failed.
+    #[error(transparent)]
+    Kb(#[from] KbError),
+    /// Meshing stopped short.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The last-resort fallback failed (a defect: never on a valid domain).
+    #[error(transparent)]
+    Fallback(#[from] FallbackError),
+    /// The finished mesh failed its check (a defect: never written).
+    #[error("the mesh failed its check before writing: {0}")]
+    Check(#[from] MeshCheckError),
+    /// An option is out of range.
+    #[error("{0}")]
+    Option(String),
+}
+
+/// The outcome of a meshing run.
+#[derive(Debug, Clone)]
+pub struct MeshResult {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The inference trace.
+    pub trace: Vec<TraceStep>,
+    /// Counters of the recursion.
+    pub stats: MeshStats,
+    /// Quality figures.
+    pub quality: Quality,
+    /// Engine use during the run.
+    pub kb_stats: KbStats,
+    /// Where the time went.
+    pub phases: Phases,
+}
+
+/// Wall time of each phase of a run (seconds).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Phases {
+    /// Discretising the boundary, cutting lines, the first front.
+    pub prepare: f64,
+    /// The recursion: features, designs, redesigns, fallbacks.
+    pub recursion: f64,
+    /// Laplace smoothing and the angle clean-up.
+    pub smoothing: f64,
+    /// The mesh's check and quality figures.
+    pub check: f64,
+}
+
+/// A domain's boundary made ready for a run: discretised, the cutting
+/// lines drawn, the area it encloses. The part of a run that needs no
+/// knowledge base, so it can be done while the engine loads.
+pub struct RunBoundary {
+    disc: Discretised,
+    size: f64,
+    area: f64,
+}
+
+/// Discretises a domain's boundary with boundary size `size` (the
+/// domain's own when None) and draws the cutting lines.
+pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
+    let size = size.unwrap_or(domain.size);
+    if !(size.is_finite() && size > 0.0) {
+        return Err(Error::Option(format!(
+            "--size must be a positive number, got {size}"
+        )));
+    }
+    let area = domain.outer.signed_area().abs()
+        - domain
+            .holes
+            .iter()
+            .map(|h| h.signed_area().abs())
+            .sum::<f64>();
+    let estimate = area / (size * size);
+    if estimate > domain::MAX_ELEMENTS as f64 {
+        return Err(Error::Option(format!(
+            "size {size} gives about {estimate:.2e} elements over the domain's area {area:.4e}, above the limit of {} (give a larger size)",
+            domain::MAX_ELEMENTS
+        )));
+    }
+    let disc = boundary::discretise(domain, size)?;
+    let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
+    Ok(RunBoundary { disc, size, area })
+}
+
+/// The boundary features of a domain's initial loop (after the cutting
+/// lines), as the KB recognises them.
+pub fn domain_features(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    size: Option<f64>,
+) -> Result<FrontFeatures, Error> {
+    let RunBoundary { disc, size, area } = discretise_for_run(domain, size)?;
+    let prepared = Prepared::new(kb, disc, size, area)?;
+    Ok(Mesher::start_from(kb, prepared).front_features()?)
+}
+
+/// Meshes a domain with the knowledge base, smooths and checks the mesh.
+pub fn mesh_domain(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    check_options(opts)?;
+    let run_boundary = discretise_for_run(domain, opts.size)?;
+    mesh_boundary(domain, run_boundary, kb, opts, progress)
+}
+
+fn check_options(opts: &Options) -> Result<(), Error> {
+    match opts.max_size {
+        Some(m) if !(m.is_finite() && m > 0.0) => Err(Error::Option(format!(
+            "--max-size must be a positive number, got {m}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// `mesh_domain` on a boundary `discretise_for_run` made ready with the
+/// same size.
+pub fn mesh_boundary(
+    domain: &Domain,
+    run_boundary: RunBoundary,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    let prepared = prepare_run(domain, run_boundary, kb, opts)?;
+    let mut run = Run::start(kb, prepared);
+    run.recursion(progress)?;
+    run.finish()
+}
+
+/// A run in progress: the recursion can be taken a step at a time (the
+/// REPL) or to the end, and `finish` does the rest, the last resort
+/// included.
+pub struct Run<'k> {
+    mesher: Mesher<'k>,
+    domain: Domain,
+    /// The boundary as it was discretised, for the last resort.
+    boundary: Discretised,
+    size: f64,
+    opts: Options,
+    kb_before: KbStats,
+    t0: Instant,
+    prepare: f64,
+    /// Why the recursion stopped short, if it did: the last resort meshes
+    /// the domain when the run is finished.
+    stopped: Option<String>,
+}
+
+/// Everything of a run's start that can fail, done with the KB only
+/// borrowed: the settings read, the boundary kept for the last resort.
+pub struct PreparedRun {
+    prepared: Prepared,
+    domain: Domain,
+    boundary: Discretised,
+    size: f64,
+    opts: Options,
+    kb_before: KbStats,
+    t0: Instant,
+}
+
+/// Prepares a run over a domain whose boundary `discretise_for_run` made
+/// ready with the size of `opts`: reads the settings from the KB.
+pub fn prepare_run(
+    domain: &Domain,
+    run_boundary: RunBoundary,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+) -> Result<PreparedRun, Error> {
+    check_options(opts)?;
+    let kb_before = kb.stats;
+    let t0 = Instant::now();
+    let RunBoundary { disc, size, area } = run_boundary;
+    let boundary = disc.clone();
+    let prepared = Prepared::new(kb, disc, size, area)?;
+    Ok(PreparedRun {
+        prepared,
+        domain: domain.clone(),
+        boundary,
+        size,
+        opts: opts.clone(),
+        kb_before,
+        t0,
+    })
+}
+
+impl<'k> Run<'k> {
+    /// Starts a prepared run.
+    pub fn start(kb: &'k mut KnowledgeBase, p: PreparedRun) -> Run<'k> {
+        let mut mesher = Mesher::start_from(kb, p.prepared);
+        mesher.set_record_trace(p.opts.trace);
+        let prepare = p.t0.elapsed().as_secs_f64();
+        Run {
+            mesher,
+            domain: p.domain,
+            boundary: p.boundary,
+            size: p.size,
+            opts: p.opts,
+            kb_before: p.kb_before,
+            t0: p.t0,
+            prepare,
+            stopped: None,
+        }
+    }
+
+    /// The recursion under way.
+    pub fn mesher(&mut self) -> &mut Mesher<'k> {
+        &mut self.mesher
+    }
+
+    /// The recursion under way, to read.
+    pub fn mesher_ref(&self) -> &Mesher<'k> {
+        &self.mesher
+    }
+
+    /// Ends the run, handing back the knowledge base.
+    pub fn into_kb(self) -> &'k mut KnowledgeBase {
+        self.mesher.into_kb()
+    }
+
+    /// Why the recursion stopped short, if it did.
+    pub fn stopped(&self) -> Option<&str> {
+        self.stopped.as_deref()
+    }
+
+    /// One step of the recursion; false when it is done, or stopped
+    /// short (the rules and the fallbacks stuck, or a runaway: `finish`
+    /// then takes the last resort). A fault of the KB is an error.
+    pub fn step(&mut self) -> Result<bool, Error> {
+        if self.stopped.is_some() {
+            return Ok(false);
+        }
+        match self.mesher.step() {
+            Ok(more) => Ok(more),
+            Err(e @ (MeshError::Stuck { .. } | MeshError::Runaway(_))) => {
+                self.stopped = Some(e.to_string());
+                Ok(false)
+            }
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    /// The recursion to the end (see `step`).
+    pub fn recursion(&mut self, progress: &mut dyn FnMut(usize)) -> Result<(), Error> {
+        while self.step()? {
+            progress(self.mesher.mesh().quads.len());
+        }
+        Ok(())
+    }
+
+    /// Finishes a run whose recursion is done: drops the nodes no element
+    /// kept (the trace's ids follow), smooths, cleans up, checks and
+    /// measures the mesh. Where the recursion stopped short, or made a
+    /// mesh that fails its check, the last resort meshes the whole domain
+    /// (see fallback/triangles.rs). The run is left empty.
+    pub fn finish(&mut self) -> Result<MeshResult, Error> {
+        let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
+        let reason = match self.stopped.take() {
+            Some(reason) => reason,
+            None => {
+                let (mesh, trace, stats, area) = self.mesher.take_outcome();
+                let kb_after = self.mesher.kb().stats;
+                match finish_mesh(
+                    mesh,
+                    trace,
+                    stats,
+                    area,
+                    &self.opts,
+                    self.kb_before,
+                    kb_after,
+                ) {
+                    Ok(mut r) => {
+                        r.phases.prepare = self.prepare;
+                        r.phases.recursion = recursion;
+                        return Ok(r);
+                    }
+                    Err(e @ Error::Check(_)) => e.to_string(),
+                    Err(e) => return Err(e),
+                }
+            }
+        };
+        self.last_resort(reason)
+    }
+
+    /// The whole domain meshed by triangles split into quads, the trace
+    /// one step saying why.
+    fn last_resort(&mut self, reason: String) -> Result<MeshResult, Error> {
+        // A debugging aid: the state where meshing stopped, as a picture.
+        if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
+            let _ = std::fs::write(
+                &path,
+                crate::io::output::to_svg(
+                    self.mesher.mesh(),
+                    &self.mesher.front_node_loops(),
+                    "stopped",
+                ),
+            );
+            let lines: Vec<String> = self
+                .mesher
+                .trace()
+                .iter()
+                .map(|t| t.to_json_line())
+                .collect();
+            let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
+        }
+        let mesh = mesh_by_triangles(&self.domain, &self.boundary, self.size)?;
+        let mut stats = self.mesher.stats();
+        stats.triangle_fallbacks += 1;
+        let trace = vec![TraceStep {
+            step: 1,
+            edge: [-1, -1],
+            angles: Default::default(),
+            feature: "stuck".into(),
+            action: format!("triangle_split({})", mesh.quads.len()),
+            redesign: vec![reason],
+            element: vec![],
+        }];
+        let kb_stats = self.mesher.kb().stats;
+        let area = boundary_area(&mesh, 1 + self.domain.holes.len() as u32);
+        // the rules' attempt and the fallback count as the recursion
+        let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
+        let mut r = finish_mesh(
+            mesh,
+            trace,
+            stats,
+            area,
+            &self.opts,
+            self.kb_before,
+            kb_stats,
+        )?;
+        r.phases.prepare = self.prepare;
+        r.phases.recursion = recursion;
+        Ok(r)
+    }
+}
+
+/// The area inside the loops' boundary edges (groups below `loops`).
+fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
+    mesh.boundary
+        .iter()
+        .filter(|e| e.group < loops)
+        .map(|e| mesh.nodes[e.a as usize].perp_dot(mesh.nodes[e.b as usize]) / 2.0)
+        .sum()
+}
+
+/// Drops the nodes no element uses; the trace's node ids follow (-1 for
+/// a node that is gone).
+fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
+    let map = mesh.compact();
+    let remap = |x: i64| {
+        if x < 0 {
+            return x;
+        }
+        map.get(x as usize)
+            .copied()
+            .flatten()
+            .map_or(-1, |n| n as i64)
+    };
+    for t in trace {
+        t.edge = t.edge.map(remap);
+        for n in &mut t.element {
+            *n = remap(*n);
+        }
+    }
+}
+
+/// The stages after the recursion: smoothing, clean-up, check, quality.
+fn finish_mesh(
+    mut mesh: Mesh,
+    mut trace: Vec<TraceStep>,
+    mut stats: MeshStats,
+    area: f64,
+    opts: &Options,
+    kb_before: KbStats,
+    kb_after: KbStats,
+) -> Result<MeshResult, Error> {
+    check::check_boundary_followed(&mesh)?;
+    compact_with_trace(&mut mesh, &mut trace);
+    let t0 = Instant::now();
+    smoothing::smooth(&mut mesh, opts.smoothing_passes);
+    // where smoothing could not reach the bounds: the elements joined
+    // up anew and the nodes round the changes smoothed again, a few
+    // times while that changes something (the smoothing after a change
+    // can leave a corner the next clean-up mends)
+    let mut any_collapse = false;
+    let mut last_changes: Option<Vec<u32>> = None;
+    for _ in 0..CLEANUP_ROUNDS {
+        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref());
+        stats.cleanup_flips += cleaned.flips;
+        stats.cleanup_collapses += cleaned.collapses;
+        any_collapse |= cleaned.collapses > 0;
+        if touched.is_empty() {
+            break;
+        }
+        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
+        last_changes = Some(touched);
+    }
+    if any_collapse {
+        compact_with_trace(&mut mesh, &mut trace);
+    }
+    let smoothing = t0.elapsed().as_secs_f64();
+    // both only read the mesh: side by side
+    let (checked, quality) = std::thread::scope(|scope| {
+        let checked = scope.spawn(|| check::check_mesh(&mesh, area));
+        let quality = quality::measure(&mesh);
+        let checked = checked
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (checked, quality)
+    });
+    checked?;
+    let phases = Phases {
+        smoothing,
+        check: t0.elapsed().as_secs_f64() - smoothing,
+        ..Default::default()
+    };
+    let mut kb_stats = kb_after;
+    kb_stats.engine_queries -= kb_before.engine_queries;
+    kb_stats.cached_queries -= kb_before.cached_queries;
+    kb_stats.engine_time -= kb_before.engine_time;
+    kb_stats.second_engine_queries -= kb_before.second_engine_queries;
+    kb_stats.second_engine_time -= kb_before.second_engine_time;
+    Ok(MeshResult {
+        mesh,
+        trace,
+        stats,
+        quality,
+        kb_stats,
+        phases,
+    })
+}

@@ -1,0 +1,69 @@
+//! Laplace smoothing (Eq. 4), guarded so that it never spoils an element.
+//!
+//! Each free node moves to the mean, over the elements round it, of its two
+//! neighbours in each element: X_i = 1/(2 N_i) Σ (X_nj + X_ni). A move is
+//! kept only if every element round the node stays convex and its worst
+//! corner gets no worse than a bound; input boundary nodes never move.
+
+use glam::DVec2;
+
+use crate::element_quality::badness;
+use crate::mesh::Mesh;
+use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
+
+pub(crate) fn laplace_sweeps(
+    mesh: &mut Mesh,
+    passes: usize,
+    nodes: &Nodes,
+    dirty: &mut [bool],
+) -> usize {
+    let around = nodes.around;
+    // only dirty nodes are looked at: the same mesh as looking at all
+    let mut kept = 0;
+    for _ in 0..passes {
+        kept = 0;
+        for &n in nodes.visit {
+            let n = n as usize;
+            if !take_free_dirty(mesh, nodes, dirty, n) {
+                continue;
+            }
+            // Eq. 4: the two neighbours of n in each of its elements
+            let mut sum = DVec2::ZERO;
+            for &(q, c) in &around[n] {
+                let quad = mesh.quads[q as usize];
+                sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize]
+                    + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
+            }
+            let target = sum / (2.0 * around[n].len() as f64);
+            let old = mesh.nodes[n];
+            // settled: a move under a thousandth of an element's edge is
+            // not worth the checks (and sweeps stop where all are settled)
+            let (q0, c0) = around[n][0];
+            let edge = mesh.nodes[mesh.quads[q0 as usize][(c0 as usize + 1) % 4] as usize] - old;
+            if (target - old).length_squared() <= 1e-6 * edge.length_squared() {
+                continue;
+            }
+            let before = around[n]
+                .iter()
+                .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                .fold(0.0, f64::max);
+            // try the full move, then half of it
+            for t in [1.0, 0.5] {
+                mesh.nodes[n] = old + (target - old) * t;
+                let after = around[n]
+                    .iter()
+                    .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                    .fold(0.0, f64::max);
+                if after.is_finite() && after <= before.max(0.0) + 1e-9 {
+                    kept += 1;
+                    mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
+                    // after half a move the target is still ahead
+                    dirty[n] = t < 1.0;
+                    break;
+                }
+                mesh.nodes[n] = old;
+            }
+        }
+    }
+    kept
+}

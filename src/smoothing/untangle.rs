@@ -1,0 +1,53 @@
+//! Untangling: each free node next to an element with a corner outside
+//! [45, 135] moves, by a compass search, to where the worst corner round
+//! it is best.
+
+use crate::element_quality::{corners_fine, worst_around, worst_around_under};
+use crate::mesh::Mesh;
+use crate::smoothing::compass::compass_search;
+use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
+
+pub(crate) fn untangle_sweeps(
+    mesh: &mut Mesh,
+    passes: usize,
+    nodes: &Nodes,
+    dirty: &mut [bool],
+) -> usize {
+    let around = nodes.around;
+    let mut moved = 0;
+    for _ in 0..passes {
+        let mut any = false;
+        for &n in nodes.visit {
+            let n = n as usize;
+            if !take_free_dirty(mesh, nodes, dirty, n) {
+                continue;
+            }
+            if corners_fine(mesh, &around[n]) {
+                continue;
+            }
+            let start = worst_around(mesh, &around[n]);
+            if start.0 == 0.0 && start.1 < -0.8 {
+                continue; // every corner round it is fine
+            }
+            let old = mesh.nodes[n];
+            let best = compass_search(
+                mesh,
+                n,
+                &around[n],
+                start,
+                |m, best| worst_around_under(m, &around[n], best),
+                |w, best| w < best,
+            );
+            mesh.nodes[n] = best;
+            if best != old {
+                moved += 1;
+                any = true;
+                mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    moved
+}

@@ -1,0 +1,171 @@
+//! Validity before anything: every element is checked against the front
+//! before it is committed. It must be convex with every corner in
+//! [4, 176] degrees, no edge a sliver, no front edge crossing it, no
+//! front node inside it and, for a designed element, no new corner or
+//! edge so close to the front that a sliver is left between them.
+//! Orientation and crossing tests use robust predicates (geometry.rs).
+
+use glam::DVec2;
+
+use crate::front::Front;
+use crate::geometry::{
+    orient2d, point_segment_distance, quad_angles, segments_intersect, SegmentRelation,
+};
+use crate::initial_design::{qnode_id, qpos, QNode};
+use crate::partial_mesh::PartialMesh;
+
+/// cos² 4°: a corner whose cosine squared is below this (with a margin)
+/// is within [4, 176] degrees.
+const COS_4_SQUARED: f64 = 0.995_134_034_370_785_1;
+
+/// No element may leave the remaining domain a sharper corner than this
+/// (deg): a spike cannot be meshed.
+pub const MIN_FRONT_ANGLE: f64 = 12.0;
+
+/// Counter-clockwise corner positions of an element.
+fn ccw(front: &Front, nodes: &[DVec2], q: &[QNode; 4], mirrored: bool) -> [DVec2; 4] {
+    let p = q.map(|x| qpos(front, nodes, x));
+    if mirrored {
+        [p[3], p[2], p[1], p[0]]
+    } else {
+        p
+    }
+}
+
+/// Hard validity of a designed element (corners in labelled order,
+/// `mirrored` for the reading against the loop): a convex element with
+/// corners in [4, 176] degrees, every edge at least a quarter of the
+/// base edge and the run's minimum, and clear of the front (see
+/// `quad_clear`, with a gap of 0.15 of the base edge).
+pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bool {
+    let p = ccw(&pm.front, &pm.mesh.nodes, q, mirrored);
+    let ids: Vec<Option<u32>> = {
+        let v = q.map(|x| qnode_id(&pm.front, x));
+        if mirrored {
+            vec![v[3], v[2], v[1], v[0]]
+        } else {
+            v.to_vec()
+        }
+    };
+    for i in 0..4 {
+        if orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]) <= 0.0 {
+            return false;
+        }
+        if let (Some(a), Some(b)) = (ids[i], ids[(i + 1) % 4]) {
+            if a == b {
+                return false;
+            }
+        }
+    }
+    // every corner in [4, 176] degrees: told without trigonometry where
+    // clearly so (|cos| below cos 4 with a margin), measured elsewhere
+    let clearly_open = (0..4).all(|i| {
+        let a = p[(i + 1) % 4] - p[i];
+        let b = p[(i + 3) % 4] - p[i];
+        let d = a.dot(b);
+        d * d < COS_4_SQUARED * (1.0 - 1e-9) * a.length_squared() * b.length_squared()
+    });
+    if !clearly_open && quad_angles(p).iter().any(|&a| !(4.0..=176.0).contains(&a)) {
+        return false;
+    }
+    // No sliver: every edge at least a quarter of the base edge, so a
+    // rule that keeps shrinking an element cannot run away.
+    let pos = |x| qpos(&pm.front, &pm.mesh.nodes, x);
+    let base = (pos(q[1]) - pos(q[0])).length();
+    if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (0.25 * base).max(pm.min_edge)) {
+        return false;
+    }
+    quad_clear(pm, p, &ids, 0.15 * base)
+}
+
+/// True iff no front edge crosses the element `p` (counter-clockwise;
+/// `ids` the node ids of its corners, None for new ones), no front node
+/// lies inside it, and, with `gap` > 0, no new corner comes closer than
+/// `gap` to a front edge nor a front node to a new edge.
+pub fn quad_clear(pm: &mut PartialMesh, p: [DVec2; 4], ids: &[Option<u32>], gap: f64) -> bool {
+    let pad = DVec2::splat(gap);
+    let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b)) - pad;
+    let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b)) + pad;
+    let mut near = std::mem::take(&mut pm.scratch);
+    pm.front.edges_near(lo, hi, &mut near);
+    let is_quad_node = |n: u32| ids.contains(&Some(n));
+    let mut ok = true;
+    'edges: for &e in &near {
+        let (na, nb) = (pm.front.node(e), pm.front.node(pm.front.next(e)));
+        let (a, b) = (pm.mesh.nodes[na as usize], pm.mesh.nodes[nb as usize]);
+        // a front node strictly inside the element
+        if !is_quad_node(na) && (0..4).all(|i| orient2d(p[i], p[(i + 1) % 4], a) > 0.0) {
+            ok = false;
+            break;
+        }
+        // no sliver left between the element and the front: a new
+        // corner keeps off front edges, a front node off new edges
+        if gap > 0.0 && !is_quad_node(na) && !is_quad_node(nb) {
+            for i in 0..4 {
+                if ids[i].is_none() && point_segment_distance(p[i], a, b) < gap {
+                    ok = false;
+                    break 'edges;
+                }
+            }
+        }
+        if gap > 0.0 && !is_quad_node(na) {
+            for i in 0..4 {
+                let new_edge = ids[i].is_none() || ids[(i + 1) % 4].is_none();
+                if new_edge && point_segment_distance(a, p[i], p[(i + 1) % 4]) < gap {
+                    ok = false;
+                    break 'edges;
+                }
+            }
+        }
+        for i in 0..4 {
+            let (qa, qb) = (ids[i], ids[(i + 1) % 4]);
+            if let (Some(x), Some(y)) = (qa, qb) {
+                if (x == na && y == nb) || (x == nb && y == na) {
+                    continue; // the front edge is this element edge
+                }
+            }
+            match segments_intersect(p[i], p[(i + 1) % 4], a, b) {
+                SegmentRelation::Disjoint => {}
+                SegmentRelation::Touch => {
+                    // only at a node the two share
+                    let shared = [qa, qb]
+                        .iter()
+                        .any(|q| q.is_some_and(|q| q == na || q == nb));
+                    if !shared {
+                        ok = false;
+                        break 'edges;
+                    }
+                }
+                _ => {
+                    ok = false;
+                    break 'edges;
+                }
+            }
+        }
+    }
+    pm.scratch = near;
+    ok
+}
+
+/// Whether `q` (counter-clockwise) is convex with every corner in
+/// [1, 179] degrees: good enough to close a loop with.
+pub fn convex_ok(q: &[DVec2; 4]) -> bool {
+    convex_angles(q).is_some()
+}
+
+/// The corner angles of `q` if it passes `convex_ok`.
+pub fn convex_angles(q: &[DVec2; 4]) -> Option<[f64; 4]> {
+    if !(0..4).all(|i| orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) > 0.0) {
+        return None;
+    }
+    let a = quad_angles(*q);
+    a.iter().all(|&a| (1.0..=179.0).contains(&a)).then_some(a)
+}
+
+/// Whether the node ids are all different (a loop that does not touch
+/// itself).
+pub fn distinct(ids: &[u32]) -> bool {
+    let mut v = ids.to_vec();
+    v.sort_unstable();
+    v.windows(2).all(|w| w[0] != w[1])
+}
