@@ -165,7 +165,7 @@ pub fn domain_features(
     size: Option<f64>,
 ) -> Result<FrontFeatures, Error> {
     let RunBoundary { disc, size, area } = discretise_for_run(domain, size)?;
-    let prepared = Prepared::new(kb, disc, size, area)?;
+    let prepared = Prepared::new(disc, size, area, kb.settings()?);
     Ok(Mesher::start_from(kb, prepared).front_features()?)
 }
 
@@ -248,7 +248,9 @@ pub fn prepare_run(
     let t0 = Instant::now();
     let RunBoundary { disc, size, area } = run_boundary;
     let boundary = disc.clone();
-    let prepared = Prepared::new(kb, disc, size, area)?;
+    // the settings read once, here, and handed to the stages
+    let settings = kb.settings()?;
+    let prepared = Prepared::new(disc, size, area, settings);
     Ok(PreparedRun {
         prepared,
         domain: domain.clone(),

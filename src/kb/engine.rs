@@ -14,8 +14,7 @@ use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, Term};
 use crate::kb::error::KbError;
 use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
 use crate::kb::terms::{
-    atom_or_text, binding_pair, fault_to_error, prolog_quoted, term_number, term_text,
-    user_query_question,
+    self, atom_or_text, binding_pair, fault_to_error, term_number, term_text, user_query_question,
 };
 use std::collections::{BTreeMap, HashMap};
 
@@ -101,17 +100,8 @@ impl KnowledgeBase {
         };
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
-        for probe in [
-            "strategy(_)",
-            "point_segment_near(0, 0, 1)",
-            "context_feature(ctx(180,180,180,180,180,1,1), _)",
-            "context_design(ctx(180,180,180,180,180,1,1), _, _)",
-            "violation(outer_corner(n1, 10), _)",
-            "loop_patterns([90,90,180,90,90,180], _)",
-            "fm_known_action_(a3)",
-            "\\+ edge_feature(_, _)",
-        ] {
-            let ok = kb.run(&format!("{probe}."))?;
+        for probe in terms::BUILT_IN_PROBES {
+            let ok = kb.run(&terms::probe_question(probe))?;
             if ok.is_empty() {
                 return Err(KbError::Clause {
                     path: "built-in knowledge base".into(),
@@ -120,7 +110,7 @@ impl KnowledgeBase {
                 });
             }
         }
-        kb.run("assertz(fm_only_built_in_rules_).")?;
+        kb.run(terms::ONLY_BUILT_IN_RULES)?;
         Ok(kb)
     }
 
@@ -235,18 +225,14 @@ impl KnowledgeBase {
     /// file or query), and one of them may run away.
     fn trust_rules_no_more(&mut self) {
         // a query the loader defines: it cannot fail to run
-        let _ = self.run("retractall(fm_only_built_in_rules_).");
+        let _ = self.run(terms::NOT_ONLY_BUILT_IN_RULES);
     }
 
     /// Loads the libraries a person typing queries expects at a Prolog
     /// prompt (`format/2`, `must_be/2`, ...): the engine's own toplevel
     /// brings them, and the machines here are built without it.
     pub fn load_query_libraries(&mut self) -> Result<(), KbError> {
-        self.run(
-            "use_module(library(format)), use_module(library(error)), \
-             use_module(library(si)), use_module(library(lambda)).",
-        )
-        .map(|_| ())
+        self.run(terms::QUERY_LIBRARIES).map(|_| ())
     }
 
     /// Drops the memoised answers (the rules may have changed, so a
@@ -346,12 +332,7 @@ impl KnowledgeBase {
             message: e.to_string(),
         })?;
         self.trust_rules_no_more();
-        let settings = format!("[{}]", SETTINGS.join(", "));
-        let q = format!(
-            "fm_consult({}, {}, R).",
-            prolog_quoted(&abs.to_string_lossy()),
-            settings
-        );
+        let q = terms::consult_question(&abs.to_string_lossy(), SETTINGS);
         let ans = self.run(&q).map_err(|e| KbError::Clause {
             path: path.into(),
             line: 0,

@@ -142,7 +142,7 @@ pub fn term_number(t: &Term) -> Option<f64> {
     }
 }
 
-pub(super) fn prolog_quoted(s: &str) -> String {
+fn prolog_quoted(s: &str) -> String {
     format!("'{}'", s.replace('\\', "\\\\").replace('\'', "\\'"))
 }
 
@@ -539,6 +539,46 @@ pub(super) fn bound_answer(name: &str, t: Option<Term>) -> Result<f64, KbError> 
 pub(super) fn user_query_question(text: &str, limit: u64) -> String {
     let codes: Vec<String> = text.chars().map(|c| (c as u32).to_string()).collect();
     format!("fm_repl_query([{}], {limit}, A).", codes.join(","))
+}
+
+/// A predicate of each built-in file, asked once the engine is built: a
+/// file that did not load leaves its predicate missing.
+pub(super) const BUILT_IN_PROBES: &[&str] = &[
+    "strategy(_)",
+    "point_segment_near(0, 0, 1)",
+    "context_feature(ctx(180,180,180,180,180,1,1), _)",
+    "context_design(ctx(180,180,180,180,180,1,1), _, _)",
+    "violation(outer_corner(n1, 10), _)",
+    "loop_patterns([90,90,180,90,90,180], _)",
+    "fm_known_action_(a3)",
+    "\\+ edge_feature(_, _)",
+];
+
+/// A probe of `BUILT_IN_PROBES` as a query.
+pub(super) fn probe_question(probe: &str) -> String {
+    format!("{probe}.")
+}
+
+/// Marks the engine as holding the built-in rules alone: its questions
+/// run without the inference bound (the loader's `fm_only_built_in_rules_`).
+pub(super) const ONLY_BUILT_IN_RULES: &str = "assertz(fm_only_built_in_rules_).";
+
+/// Takes the mark back: a user's rules may come in, bound every question.
+pub(super) const NOT_ONLY_BUILT_IN_RULES: &str = "retractall(fm_only_built_in_rules_).";
+
+/// The libraries a person typing queries expects at a Prolog prompt.
+pub(super) const QUERY_LIBRARIES: &str =
+    "use_module(library(format)), use_module(library(error)), \
+     use_module(library(si)), use_module(library(lambda)).";
+
+/// The loader's question that checks and adds a user's file (`Settings`:
+/// the predicates the file replaces instead of extending).
+pub(super) fn consult_question(abs_path: &str, settings: &[&str]) -> String {
+    format!(
+        "fm_consult({}, [{}], R).",
+        prolog_quoted(abs_path),
+        settings.join(", ")
+    )
 }
 
 #[cfg(test)]

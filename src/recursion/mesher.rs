@@ -46,8 +46,8 @@ pub enum MeshError {
 }
 
 /// What a run needs before it starts: the boundary discretised, the
-/// settings read from the KB. Making it is what can fail; starting the
-/// run from it cannot.
+/// settings read from the KB once (the stages that follow the recursion
+/// get them from the same read, in the pipeline).
 #[derive(Debug, Clone)]
 pub struct Prepared {
     disc: Discretised,
@@ -57,20 +57,15 @@ pub struct Prepared {
 }
 
 impl Prepared {
-    /// Reads the run's settings from the KB for the discretised domain
-    /// with boundary size `size` and area `area`.
-    pub fn new(
-        kb: &mut KnowledgeBase,
-        disc: Discretised,
-        size: f64,
-        area: f64,
-    ) -> Result<Prepared, MeshError> {
-        Ok(Prepared {
+    /// A run over the discretised domain with boundary size `size` and
+    /// area `area`, by the settings `set`.
+    pub fn new(disc: Discretised, size: f64, area: f64, set: Settings) -> Prepared {
+        Prepared {
             disc,
             size,
             area,
-            set: kb.settings()?,
-        })
+            set,
+        }
     }
 }
 
@@ -100,7 +95,7 @@ impl<'k> Mesher<'k> {
         size: f64,
         area: f64,
     ) -> Result<Mesher<'k>, MeshError> {
-        let prepared = Prepared::new(kb, disc, size, area)?;
+        let prepared = Prepared::new(disc, size, area, kb.settings()?);
         Ok(Mesher::start_from(kb, prepared))
     }
 
