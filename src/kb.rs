@@ -518,8 +518,9 @@ impl KnowledgeBase {
 
     /// Consults a user's KB file: every clause is checked first; a file
     /// with any unsound clause is refused whole, naming file and line.
-    /// Settings (`strategy/1`, `bound/2`) it defines replace the built-in
-    /// ones; its other clauses are added after the built-in rules.
+    /// Settings it defines replace the built-in ones (`strategy/1` whole,
+    /// `bound/2` by name); its other clauses are added after the built-in
+    /// rules.
     pub fn consult_file(&mut self, path: &str) -> Result<usize, KbError> {
         std::fs::metadata(path).map_err(|e| KbError::Read {
             path: path.into(),

@@ -2,8 +2,8 @@
 
 fm_consult(+Path, +Settings, -Result) reads every term of Path, checks
 it, and only if the whole file is sound replaces the settings it defines
-(predicates of Settings, e.g. [strategy/1, bound/2]) and adds the other
-clauses. Result is ok(Count) or error(Line, Reason).
+(predicates of Settings, e.g. [strategy/1, bound/2]: strategy/1 whole,
+bound/2 by name) and adds the other clauses. Result is ok(Count) or error(Line, Reason).
 */
 
 :- use_module(library(lists)).
@@ -86,19 +86,44 @@ fm_directive_ok_(discontiguous(_)).
 fm_directive_ok_(use_module(library(_))).
 
 fm_add_all_(Items, Settings, N) :-
-    fm_settings_defined_(Items, Settings, Ps),
-    forall(member(Nm/Ar, Ps), (functor(G, Nm, Ar), retractall(G))),
+    fm_settings_defined_(Items, Settings, Gs),
+    forall(member(G, Gs), retractall(G)),
     fm_add_items_(Items, 0, N).
 
-% The settings (of Settings) the file defines: it replaces them.
-fm_settings_defined_(Items, Settings, Ps) :-
-    findall(N0/A0, (member(item(_, T), Items), fm_head_(T, H), functor(H, N0, A0), member(N0/A0, Settings)), Ps0),
-    sort(Ps0, Ps).
+% The settings (of Settings) the file defines, as the general heads of the
+% clauses it replaces: a setting of arity 1 (strategy/1) is replaced
+% whole, one of arity 2 or more (bound/2) name by name, by its first
+% argument, so that a file holding bound(upper_corner, 140) leaves the
+% other bounds as they were.
+fm_settings_defined_(Items, Settings, Gs) :-
+    findall(Key,
+            ( member(item(_, T), Items), fm_head_(T, H),
+              functor(H, N0, A0), member(N0/A0, Settings),
+              fm_setting_key_(H, Key) ),
+            Keys0),
+    sort(Keys0, Keys),
+    findall(G,
+            ( member(Key, Keys),
+              \+ ( Key = name(N, A, _), member(whole(N, A), Keys) ),
+              fm_key_head_(Key, G) ),
+            Gs).
+
+fm_setting_key_(H, name(N, A, Name)) :-
+    functor(H, N, A),
+    A >= 2,
+    arg(1, H, Name),
+    atomic(Name),
+    !.
+fm_setting_key_(H, whole(N, A)) :-
+    functor(H, N, A).
+
+fm_key_head_(whole(N, A), G) :- functor(G, N, A).
+fm_key_head_(name(N, A, Name), G) :- functor(G, N, A), arg(1, G, Name).
 
 % The clauses of the settings the file replaces, to restore on undo.
 fm_saved_settings_(Items, Settings, Saved) :-
-    fm_settings_defined_(Items, Settings, Ps),
-    findall((G :- B), (member(Nm/Ar, Ps), functor(G, Nm, Ar), clause(G, B)), Saved).
+    fm_settings_defined_(Items, Settings, Gs),
+    findall((G :- B), (member(G, Gs), clause(G, B)), Saved).
 
 % Takes a refused file back out: its clauses retracted, the settings it
 % replaced restored.
