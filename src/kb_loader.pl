@@ -207,16 +207,17 @@ fm_add_items_([item(_, T) | Items], N0, N) :-
 %% fm_front_set(+Nodes, +Edges, +Angles, +Contexts)
 %
 % Replaces the front facts: Nodes are xy(N, X, Y), Edges e(N1, N2),
-% Angles a(N, Degrees), Contexts c(E, Ctx).
+% Angles a(N, Degrees), Contexts c(E, N, Ctx) (the front edge E read
+% from its end N).
 fm_front_set(Nodes, Edges, Angles, Ctxs) :-
     retractall(node_xy(_, _, _)),
     retractall(front_edge(_, _)),
     retractall(node_angle(_, _)),
-    retractall(edge_context(_, _)),
+    retractall(edge_context(_, _, _)),
     forall(member(xy(N, X, Y), Nodes), assertz(node_xy(N, X, Y))),
     forall(member(e(A, B), Edges), assertz(front_edge(A, B))),
     forall(member(a(N1, T), Angles), assertz(node_angle(N1, T))),
-    forall(member(c(E, C), Ctxs), assertz(edge_context(E, C))).
+    forall(member(c(E, N, C), Ctxs), assertz(edge_context(E, N, C))).
 
 /* Host support: a user's query, typed at the REPL. */
 

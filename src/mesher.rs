@@ -891,7 +891,7 @@ impl<'k> Mesher<'k> {
     }
 
     /// States the current front to the KB as facts (kb/front.pl):
-    /// node_xy/3, front_edge/2, node_angle/2 and edge_context/2 for
+    /// node_xy/3, front_edge/2, node_angle/2 and edge_context/3 for
     /// both readings of every edge.
     pub fn publish_front(&mut self) -> Result<(), MeshError> {
         let f = crate::kb::fmt_float;
@@ -909,11 +909,12 @@ impl<'k> Mesher<'k> {
                 edges.push(format!("e({n}, {next})"));
                 let theta = deg_round(self.front.angle(fv, &self.mesh.nodes));
                 angles.push(format!("a({n}, {})", f(theta)));
+                // the edge as the front has it, read from either end
                 for mirrored in [false, true] {
                     let lab = self.labels(fv, mirrored);
                     let ctx = self.context(&lab);
-                    let (a, b) = (self.front.node(lab.n1), self.front.node(lab.n2));
-                    ctxs.push(format!("c({a}-{b}, {ctx})"));
+                    let from = self.front.node(lab.n1);
+                    ctxs.push(format!("c({n}-{next}, {from}, {ctx})"));
                 }
             }
         }

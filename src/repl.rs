@@ -40,14 +40,18 @@ Queries: any Prolog goal, with or without a leading ?- and a final full stop.
 
 The live front (the boundary of the remaining domain, kb/front.pl):
   node_xy(N, X, Y)      front node N at (X, Y)
-  front_edge(N1, N2)    a front edge, the remaining domain on its left
+  front_edge(A, B)      a front edge A-B, the remaining domain on its left
   node_angle(N, Deg)    interior angle of the remaining domain at N
   concave_point(N)      N is a concave point (angle above 180)
-  parallel(E1, E2)      front edges E = N1-N2 on parallel lines
+  parallel(E1, E2)      front edges E = A-B on parallel lines
   near_segment(N, E)    node N approaches front edge E (Fig. 10)
-  edge_feature(E, F)    the oriented edge E = N1-N2 shows feature F (b1..b5)
-  edge_action(E, A)     the design action the KB takes on E
-  edge_context(E, Ctx)  the context term the mesher asks about E
+  edge_feature(E, at(F, N))
+                        front edge E = A-B, read from its end N (A along
+                        the front, B mirrored), shows feature F (b1..b5)
+  edge_action(E, at(Act, N))
+                        the design action the KB takes on E read from N
+  edge_context(E, N, Ctx)
+                        the context term the mesher asks about E read from N
 The knowledge base (kb/*.pl, kb/README.md):
   strategy(S), bound(Name, Value), feature(F, Ctx), feature_action(F, Ctx, A),
   context_feature(Ctx, F), context_design(Ctx, F, A), violation(R, V),
