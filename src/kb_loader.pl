@@ -226,8 +226,10 @@ fm_front_set(Nodes, Edges, Angles, Ctxs) :-
 % Reads the query from its character codes (so no text the user types
 % can break the host's query), calls it with at most Limit inferences per
 % answer and gives, one per solution on backtracking:
-%   answer(Bindings)   Bindings a list of Name = Text (the value written
-%                      as Prolog text, variables by their names)
+%   answer(Bindings, More)
+%                      Bindings a list of Name = Text (the value written
+%                      as Prolog text, variables by their names); More is
+%                      last when no other answer can follow, else more
 %   error(Text)        a syntax error, an exception or a runaway; last
 fm_repl_query(Codes, Limit, Answer) :-
     atom_codes(Atom, Codes),
@@ -238,8 +240,37 @@ fm_repl_query(Codes, Limit, Answer) :-
         (   nonvar(E2) -> fm_error_text_(E2, Answer)
         ;   R == inference_limit_exceeded ->
             Answer = error('the query ran past the inference limit (a loop?)')
-        ;   fm_bindings_(Vs, Vs, Bs), Answer = answer(Bs)
+        ;   fm_fresh_names_(Vs, Names),
+            fm_bindings_(Vs, Names, Bs),
+            % R is ! when the goal left no choice point: no answer can follow
+            (   R == ! -> More = last ; More = more ),
+            Answer = answer(Bs, More)
         )
+    ).
+
+% The variables of the answers the query did not name are written _A,
+% _B, ... (as the engine's own toplevel does), never as a name of the
+% query's.
+fm_fresh_names_(Vs, Names) :-
+    term_variables(Vs, Free),
+    fm_name_free_(Free, Vs, 0, Extra),
+    append(Vs, Extra, Names).
+
+fm_name_free_([], _, _, []).
+fm_name_free_([V | Free], Vs, I, Extra) :-
+    (   member(_ = W, Vs), W == V -> Extra = Extra1, I1 = I
+    ;   fm_fresh_name_(I, Vs, Name, I1), Extra = [Name = V | Extra1]
+    ),
+    fm_name_free_(Free, Vs, I1, Extra1).
+
+fm_fresh_name_(I, Vs, Name, I1) :-
+    Letter is 0'A + I mod 26,
+    (   I < 26 -> atom_codes(Name0, [0'_, Letter])
+    ;   N is I // 26, number_codes(N, Ds), atom_codes(Name0, [0'_, Letter | Ds])
+    ),
+    I0 is I + 1,
+    (   member(Name0 = _, Vs) -> fm_fresh_name_(I0, Vs, Name, I1)
+    ;   Name = Name0, I1 = I0
     ).
 
 fm_bindings_([], _, []).
