@@ -5,17 +5,24 @@
 use anyhow::{Context, Result};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::PathBuf;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use freemesh::repl::{Flow, Repl};
 use freemesh::KnowledgeBase;
 
 use crate::cli::ReplArgs;
 
-/// The exit status when a second Ctrl-C ends the program (128 + SIGINT,
-/// as a shell reports a program ended by it).
-const EXIT_ON_SECOND_CTRL_C: i32 = 130;
+/// The exit status when Ctrl-C ends the program (128 + SIGINT, as a shell
+/// reports a program ended by it).
+const EXIT_AFTER_THE_NOTE: i32 = 130;
+
+/// How long a Ctrl-C may wait for the query to act on it before the note.
+const NOTE_AFTER: Duration = Duration::from_secs(1);
+
+/// How often the watcher of Ctrl-C looks.
+const WATCH_EVERY: Duration = Duration::from_millis(50);
 
 /// Runs a session: the built-in KB with the `--kb` files, the domain if
 /// one is given, then one query or command a line until `:quit` or the end
@@ -45,17 +52,41 @@ pub fn run(args: ReplArgs) -> Result<()> {
     at_the_terminal(&mut session, &mut out)
 }
 
-/// Ctrl-C sets the session's interrupt flag (the query or run under way
-/// stops at its next answer or element); a second one before the first
-/// is acted on ends the program, for a query that cannot be stopped
-/// (`sleep(1000)`).
+/// Ctrl-C sets the session's interrupt flag: the query or run under way
+/// stops at its next answer or element. If it has not after a second, a
+/// note says so, and from then on another Ctrl-C ends the program, for a
+/// query that cannot be stopped (`sleep(1000)`); a Ctrl-C pressed twice
+/// in quick succession does not.
 fn catch_ctrl_c(session: &Repl<'_>) -> Result<()> {
-    use signal_hook::{consts::SIGINT, flag};
+    use signal_hook::{consts::SIGINT, flag, iterator::Signals};
     let interrupt = session.interrupt_flag();
-    // registered first, so it sees the flag as it was before this Ctrl-C
-    flag::register_conditional_shutdown(SIGINT, EXIT_ON_SECOND_CTRL_C, Arc::clone(&interrupt))
+    let warned = Arc::new(AtomicBool::new(false));
+    // the handlers run in this order: the exit sees `warned` as it was
+    // before this Ctrl-C, and the flag is set before the call returns
+    flag::register_conditional_shutdown(SIGINT, EXIT_AFTER_THE_NOTE, Arc::clone(&warned))
         .context("catching Ctrl-C")?;
-    flag::register(SIGINT, interrupt).context("catching Ctrl-C")?;
+    flag::register(SIGINT, Arc::clone(&interrupt)).context("catching Ctrl-C")?;
+    let mut presses = Signals::new([SIGINT]).context("catching Ctrl-C")?;
+    std::thread::spawn(move || {
+        let mut pressed: Option<Instant> = None;
+        loop {
+            if presses.pending().count() > 0 {
+                pressed.get_or_insert_with(Instant::now);
+            }
+            if !interrupt.load(Ordering::SeqCst) {
+                // acted on (or cleared for a new line)
+                pressed = None;
+                warned.store(false, Ordering::SeqCst);
+            } else if pressed.is_some_and(|t| t.elapsed() >= NOTE_AFTER)
+                && !warned.swap(true, Ordering::SeqCst)
+            {
+                eprintln!(
+                    "% Ctrl-C: the query stops at its next answer or at its inference limit; Ctrl-C again ends the session"
+                );
+            }
+            std::thread::sleep(WATCH_EVERY);
+        }
+    });
     Ok(())
 }
 

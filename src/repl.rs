@@ -55,7 +55,8 @@ Queries: any Prolog goal, with or without a leading ?- and a final full stop.
   Answers show as N = 7, true or false; an answer that may have another
   after it waits: ; then Enter asks for the next, Enter alone stops.
   Each answer may take at most 20,000,000 inferences; Ctrl-C stops a query
-  at its next answer (or at that limit) and a :run at its next element.
+  at its next answer (or at that limit) and a :run at its next element
+  (if it has not after a second, Ctrl-C again ends the session).
   Loaded: lists, between, format, dif, error, si, lambda, iso_ext, charsio,
   dcgs, pairs, ordsets, assoc, freeze, reif, time.
 

@@ -55,22 +55,25 @@ fn plain(s: &str) -> String {
 }
 
 impl Session {
-    fn reading(mut child: Child, input: Box<dyn Write>, mut from: Box<dyn Read + Send>) -> Self {
+    /// A session whose output is read from `froms` (standard output, and
+    /// standard error when it is apart) into one text.
+    fn reading(child: Child, input: Box<dyn Write>, froms: Vec<Box<dyn Read + Send>>) -> Self {
         let output = Arc::new(Mutex::new(String::new()));
-        let sink = Arc::clone(&output);
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 4096];
-            // a pseudo-terminal's reader ends with an error when the
-            // session closes it: both are the end
-            while let Ok(n) = from.read(&mut buf) {
-                if n == 0 {
-                    break;
+        for mut from in froms {
+            let sink = Arc::clone(&output);
+            std::thread::spawn(move || {
+                let mut buf = [0u8; 4096];
+                // a pseudo-terminal's reader ends with an error when the
+                // session closes it: both are the end
+                while let Ok(n) = from.read(&mut buf) {
+                    if n == 0 {
+                        break;
+                    }
+                    let text = String::from_utf8_lossy(&buf[..n]).into_owned();
+                    sink.lock().unwrap().push_str(&text);
                 }
-                let text = String::from_utf8_lossy(&buf[..n]).into_owned();
-                sink.lock().unwrap().push_str(&text);
-            }
-        });
-        let _ = child.stderr.take();
+            });
+        }
         Session {
             child,
             input,
@@ -86,12 +89,13 @@ impl Session {
             .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
+            .stderr(Stdio::piped())
             .spawn()
             .expect("the binary runs");
         let input = Box::new(child.stdin.take().expect("stdin is piped"));
-        let output = Box::new(child.stdout.take().expect("stdout is piped"));
-        Session::reading(child, input, output)
+        let output: Box<dyn Read + Send> = Box::new(child.stdout.take().expect("stdout is piped"));
+        let errors: Box<dyn Read + Send> = Box::new(child.stderr.take().expect("stderr is piped"));
+        Session::reading(child, input, vec![output, errors])
     }
 
     /// `freemesh repl ARGS` on a pseudo-terminal, with `data` as the
@@ -111,7 +115,7 @@ impl Session {
             .expect("the binary runs");
         let master = File::from(pty.master);
         let input = Box::new(master.try_clone().unwrap());
-        Session::reading(child, input, Box::new(master))
+        Session::reading(child, input, vec![Box::new(master)])
     }
 
     fn type_line(&mut self, line: &str, enter: &str) {
@@ -146,13 +150,18 @@ impl Session {
     }
 
     /// Waits for the end of the session; its exit status was success.
-    fn ends(mut self) -> String {
+    fn ends(self) -> String {
+        self.ends_with(0)
+    }
+
+    /// Waits for the end of the session, which exits with `code`.
+    fn ends_with(mut self, code: i32) -> String {
         drop(self.input);
         let t0 = Instant::now();
         loop {
             if let Some(status) = self.child.try_wait().unwrap() {
                 let all = plain(&self.output.lock().unwrap());
-                assert!(status.success(), "{status}: {all}");
+                assert_eq!(status.code(), Some(code), "{status}: {all}");
                 return all;
             }
             assert!(t0.elapsed() < PATIENCE, "the session did not end");
@@ -207,6 +216,19 @@ fn ctrl_c_before_a_run_stops_it_at_its_first_element_and_keeps_the_mesh() {
     s.type_line(":run", "\n");
     s.expect("% the mesh is complete: 16 quads");
     s.ends();
+}
+
+#[test]
+fn a_ctrl_c_not_acted_on_is_noted_and_one_more_ends_the_session() {
+    let mut s = Session::piped(&[]);
+    s.type_line("X = 1.", "\n");
+    s.expect("   X = 1.");
+    // pressed while nothing runs, it waits for the next query: the note
+    // comes after a second
+    s.ctrl_c();
+    s.expect("Ctrl-C again ends the session");
+    s.ctrl_c();
+    s.ends_with(130);
 }
 
 #[test]
