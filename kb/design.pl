@@ -19,7 +19,7 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
 ?- feature_action(b2, ctx(180, 180, 90, 180, 180, 1, 1), A).
    A = a2(90, 90).
 ?- context_design(ctx(180, 180, 180, 180, 180, 1, 1), F, A).
-   F = b1, A = a1(90, 90, 1.0, 1.0).
+   F = b1, A = a1(90.0, 90.0, 1.0, 1.0).
 ```
 */
 
@@ -27,7 +27,10 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
 
 %% feature_action(+Feature, +Ctx, -Action)
 %
-% Action is the design action for an edge with Feature and context Ctx.
+% Action is the design action for an edge with Feature and context Ctx
+% (below, the reflex corner of 270 at N2 is shared by three elements).
+% ?- feature_action(b1, ctx(180, 180, 180, 270, 180, 1, 1), A).
+%    A = a1(90.0, 90.0, 1.0, 1.0).
 
 % a1 for b1: phi = theta/2, l2 = (l1 + l6)/(2 sin phi2),
 % l4 = (l5 + l1)/(2 sin phi1). A reflex angle above bound(reflex_split)
@@ -59,6 +62,8 @@ corner_share_(Theta, Phi) :-
 %% context_design(+Ctx, -Feature, -Action)
 %
 % The first feature of the strategy the edge shows, and its action.
+% ?- context_design(ctx(90, 180, 90, 180, 90, 1, 1), F, A).
+%    F = b4, A = a4.
 context_design(Ctx, F, A) :-
     context_feature(Ctx, F),
     feature_action(F, Ctx, A),
@@ -68,6 +73,9 @@ context_design(Ctx, F, A) :-
 %
 % Batch form for the host: one d(Feature, Action) per context, or none
 % when the edge shows no feature.
+% ?- context_designs([ctx(180, 180, 180, 180, 180, 1, 1),
+%                     ctx(90, 90, 300, 90, 90, 1, 1)], Ds).
+%    Ds = [d(b1, a1(90.0, 90.0, 1.0, 1.0)), none].
 context_designs([], []).
 context_designs([C | Cs], [D | Ds]) :-
     (   context_design(C, F, A) -> D = d(F, A) ; D = none ),

@@ -18,7 +18,7 @@ right end of an edge is found as well.
 
 ```
 ?- context_feature(ctx(90, 180, 90, 180, 90, 1, 1), F).
-   F = b4 ;  F = b5 ;  F = b2.
+   F = b4 ;  F = b5 ;  F = b2 ;  false.
 ?- feature(b1, ctx(180, 180, 180, 180, 180, 1, 1)).
    true.
 ```
@@ -29,6 +29,8 @@ right end of an edge is found as well.
 %% feature(?Feature, +Ctx)
 %
 % True iff the edge of context Ctx shows boundary feature Feature.
+% ?- feature(F, ctx(180, 180, 90, 90, 180, 1, 1)).
+%    F = b3 ;  false.
 
 % b1: both ends open (theta1, theta2 >= U_c), Fig. 8(a).
 feature(b1, ctx(_, _, T1, T2, _, _, _)) :-
@@ -58,6 +60,8 @@ open_(U, T) :- T >= U, T =< 240.
 %% context_feature(+Ctx, -Feature)
 %
 % True iff Feature is a feature of the edge, in the order of the strategy.
+% ?- context_feature(ctx(180, 180, 90, 180, 180, 1, 1), F).
+%    F = b2 ;  false.
 context_feature(Ctx, F) :-
     strategy(S),
     member(F, S),

@@ -14,8 +14,8 @@ elements:
 (K rotates the paper's numbering round the loop, 0-based.)
 
 ```
-?- loop_patterns([90, 90, 180, 90, 90, 180], Ps).
-   Ps = [pattern3(0), ...].
+?- loop_patterns([90, 90, 180, 90, 90, 180], [P | _]).
+   P = pattern3(0).
 ```
 */
 
@@ -23,7 +23,10 @@ elements:
 
 %% final_pattern(+Angles, ?K, -Pattern)
 %
-% Pattern closes a six-segment loop with interior Angles, rotated by K.
+% Pattern closes a six-segment loop with interior Angles, rotated by K
+% (the last clauses offer every pattern again, as a last try).
+% ?- final_pattern([120, 120, 120, 120, 120, 120], 0, P).
+%    P = pattern1(0) ;  P = pattern3(0) ;  P = pattern1(0) ;  false.
 
 % Pattern 3: the two straight nodes of a 2 x 1 block face each other.
 final_pattern(As, K, pattern3(K)) :-
@@ -51,5 +54,7 @@ rotated_(As, K, Rs) :-
 %% loop_patterns(+Angles, -Patterns)
 %
 % Every pattern the rules allow for the loop, best first.
+% ?- loop_patterns([90, 90, 180, 90, 90, 180], [P | _]).
+%    P = pattern3(0).
 loop_patterns(As, Ps) :-
     findall(P, final_pattern(As, _, P), Ps).

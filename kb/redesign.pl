@@ -34,6 +34,8 @@ The constraints (paper, "Redesign subsystem"):
 %% violation(+Relation, -Violation)
 %
 % True iff the measured Relation breaks a constraint, named Violation.
+% ?- violation(outer_corner(n1, 30), V).
+%    V = small_outer_corner(n1).
 violation(corner_segment(C, V, H, S), near_boundary(C)) :-
     point_segment_near(V, H, S).
 violation(corner_node(C, D, S), near_node(C)) :-
@@ -58,6 +60,9 @@ violation(remaining_corner(N, Deg), small_remaining(N)) :-
 %% redesign_rule(?Rule, +Ctx, +Action, +Violation, -NewAction)
 %
 % Rule corrects Action, which commits Violation, into NewAction.
+% ?- redesign_rule(R, ctx(180, 180, 180, 180, 180, 1, 1), a2(90, 90),
+%                  near_boundary(n3), A).
+%    R = rd6, A = a2(81.0, 81.0).
 
 % A new corner on top of a front node: the fronts meet, use the node.
 redesign_rule(rd_merge, _, A, near_node(C), merge(C, A)).
@@ -112,6 +117,9 @@ redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6), a3, _, A) :-
 % The first violated constraint among Relations that a rule corrects:
 % which rule fires and the corrected action. Fails when nothing is
 % violated (or no rule applies).
+% ?- redesign(ctx(180, 180, 180, 180, 180, 1, 1), a1(90, 90, 1, 1),
+%             [outer_corner(n1, 90)], R, A).
+%    false.
 redesign(Ctx, A, Relations, Rule, NewA) :-
     member(R, Relations),
     violation(R, V),

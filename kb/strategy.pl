@@ -1,7 +1,10 @@
 /** Settings of the rule base: the recursion strategy and the bounds.
 
 These are the predicates a --kb file replaces rather than extends: a file
-that defines strategy/1 or bound/2 supersedes all built-in clauses of it.
+that defines strategy/1 supersedes the built-in strategy, and a file that
+defines bound(Name, _) supersedes the built-in bound of that name alone
+(a file holding `bound(upper_corner, 140).` changes U_c and nothing else;
+the other bounds keep the values below).
 
 ```
 ?- strategy(S).
@@ -19,6 +22,8 @@ that defines strategy/1 or bound/2 supersedes all built-in clauses of it.
 % The order in which features are looked for on the front (the paper's
 % recursion strategy, found by graph tests): the first feature of the
 % list present anywhere on the front is acted on first.
+% ?- strategy(S).
+%    S = [b4,b5,b3,b2,b1].
 strategy([b4, b5, b3, b2, b1]).
 
 %% bound(?Name, ?Value)
@@ -36,6 +41,8 @@ strategy([b4, b5, b3, b2, b1]).
 % near_node: a new corner closer than this fraction of the element size
 %   to a front node is merged with it (the fronts meet).
 % redesign_rounds: how many redesign rules may fire on one element.
+% ?- bound(lower_corner, L).
+%    L = 45.
 bound(upper_corner, 135).
 bound(lower_corner, 45).
 bound(b2_side, 160).

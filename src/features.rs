@@ -190,7 +190,7 @@ pub fn front_features(
 }
 
 /// The front as facts for the KB (kb/front.pl): node_xy/3, front_edge/2,
-/// node_angle/2 and edge_context/2 for both readings of every edge.
+/// node_angle/2 and edge_context/3 for both readings of every edge.
 pub fn front_facts(front: &Front, nodes: &[DVec2]) -> FrontFacts {
     let mut facts = FrontFacts::default();
     let mut seen = rustc_hash::FxHashSet::default();
@@ -202,10 +202,12 @@ pub fn front_facts(front: &Front, nodes: &[DVec2]) -> FrontFacts {
             }
             facts.edges.push((n, front.node(front.next(fv))));
             facts.angles.push((n, deg_round(front.angle(fv, nodes))));
+            // the edge as the front has it, read from either end
+            let next = front.node(front.next(fv));
             for mirrored in [false, true] {
                 let lab = labels(front, fv, mirrored);
-                let (a, b) = (front.node(lab.n1), front.node(lab.n2));
-                facts.contexts.push((a, b, context(front, nodes, &lab)));
+                let from = front.node(lab.n1);
+                facts.contexts.push((n, next, from, context(front, nodes, &lab)));
             }
         }
     }

@@ -1,6 +1,7 @@
 //! The `freemesh` binary: parses arguments, runs, prints one line per error.
 
 mod cli;
+mod prompt;
 
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -41,53 +42,9 @@ fn run(cli: cli::Cli) -> Result<()> {
     match cli.command {
         cli::Command::Mesh(args) => mesh(args),
         cli::Command::Features(args) => features(args),
-        cli::Command::Repl(args) => repl(args),
+        cli::Command::Repl(args) => prompt::run(args),
         cli::Command::Quality(args) => quality(args),
     }
-}
-
-fn repl(args: cli::ReplArgs) -> Result<()> {
-    use freemesh::{Flow, Repl};
-    use std::io::{BufRead, IsTerminal, Write};
-    let mut kb = load_kb(&args.kb)?;
-    kb.load_query_libraries()?;
-    let mut session = Repl::new(&mut kb, args.size);
-    let mut out = std::io::stdout();
-    if let Some(d) = &args.domain {
-        let msg = session.load(&d.to_string_lossy())?;
-        writeln!(out, "{msg}")?;
-    }
-    if !std::io::stdin().is_terminal() {
-        // Scripted: one line a query or command, no prompts.
-        for line in std::io::stdin().lock().lines() {
-            let line = line.context("reading standard input")?;
-            if session.handle(&line, &mut out, None)? == Flow::Quit {
-                break;
-            }
-        }
-        return Ok(());
-    }
-    use rustyline::error::ReadlineError;
-    let mut editor = rustyline::DefaultEditor::new().context("starting the line editor")?;
-    writeln!(out, "freemesh repl: Prolog queries over the knowledge base and the live front; :help lists the commands")?;
-    loop {
-        let line = match editor.readline("?- ") {
-            Ok(l) => l,
-            Err(ReadlineError::Interrupted) => continue,
-            Err(ReadlineError::Eof) => break,
-            Err(e) => return Err(e).context("reading the terminal"),
-        };
-        let _ = editor.add_history_entry(line.as_str());
-        // After each answer: ; asks for the next, Enter alone stops.
-        let mut ask = |answer: &str| -> bool {
-            let reply = editor.readline(&format!("   {answer} "));
-            matches!(reply.as_deref().map(str::trim), Ok(";"))
-        };
-        if session.handle(&line, &mut out, Some(&mut ask))? == Flow::Quit {
-            break;
-        }
-    }
-    Ok(())
 }
 
 /// One warning line for the keys of a domain file the format does not know.

@@ -7,13 +7,19 @@
 //! The session is driven line by line through [`Repl::handle`], whatever
 //! the input is (a terminal, a pipe, a test), and never panics or stops on
 //! what the user types: every fault is one `error:` line.
+//!
+//! A query or a run can be stopped from outside (Ctrl-C): the caller sets
+//! the flag of [`Repl::interrupt_flag`], and the session stops at the next
+//! answer or the next element, keeping what it had.
 
 use std::io::{self, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use crate::input::domain::Domain;
-use crate::io::output::{to_svg, write_all};
-use crate::kb::{KnowledgeBase, UserAnswer};
+use crate::io::output::{render, to_svg, write_all, Format};
+use crate::kb::{KnowledgeBase, More, UserAnswer};
 use crate::pipeline::{discretise_for_run, prepare_run, MeshResult, Options, Run};
 
 /// At most this many inferences for one answer of a user's query: a
@@ -22,6 +28,17 @@ pub const INFERENCE_LIMIT: u64 = 20_000_000;
 
 /// With piped input every answer is printed, up to this many.
 pub const MAX_ANSWERS: usize = 200;
+
+/// Why a query stopped before its answers ran out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stop {
+    /// Interrupted from outside (Ctrl-C).
+    Interrupted,
+    /// Piped input: `MAX_ANSWERS` were printed.
+    Enough,
+    /// The person at the terminal asked for no more.
+    Asked,
+}
 
 /// What the session does after a line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,19 +52,28 @@ pub enum Flow {
 /// The help text of `:help`.
 pub const HELP: &str = "\
 Queries: any Prolog goal, with or without a leading ?- and a final full stop.
-  Answers show as N = 7, true or false; on a terminal, ; asks for the next.
-  Each answer may take at most 20,000,000 inferences.
+  Answers show as N = 7, true or false; an answer that may have another
+  after it waits: ; then Enter asks for the next, Enter alone stops.
+  Each answer may take at most 20,000,000 inferences; Ctrl-C stops a query
+  at its next answer (or at that limit) and a :run at its next element
+  (if it has not after a second, Ctrl-C again ends the session).
+  Loaded: lists, between, format, dif, error, si, lambda, iso_ext, charsio,
+  dcgs, pairs, ordsets, assoc, freeze, reif, time.
 
 The live front (the boundary of the remaining domain, kb/front.pl):
   node_xy(N, X, Y)      front node N at (X, Y)
-  front_edge(N1, N2)    a front edge, the remaining domain on its left
+  front_edge(A, B)      a front edge A-B, the remaining domain on its left
   node_angle(N, Deg)    interior angle of the remaining domain at N
   concave_point(N)      N is a concave point (angle above 180)
-  parallel(E1, E2)      front edges E = N1-N2 on parallel lines
+  parallel(E1, E2)      front edges E = A-B on parallel lines
   near_segment(N, E)    node N approaches front edge E (Fig. 10)
-  edge_feature(E, F)    the oriented edge E = N1-N2 shows feature F (b1..b5)
-  edge_action(E, A)     the design action the KB takes on E
-  edge_context(E, Ctx)  the context term the mesher asks about E
+  edge_feature(E, at(F, N))
+                        front edge E = A-B, read from its end N (A along
+                        the front, B mirrored), shows feature F (b1..b5)
+  edge_action(E, at(Act, N))
+                        the design action the KB takes on E read from N
+  edge_context(E, N, Ctx)
+                        the context term the mesher asks about E read from N
 The knowledge base (kb/*.pl, kb/README.md):
   strategy(S), bound(Name, Value), feature(F, Ctx), feature_action(F, Ctx, A),
   context_feature(Ctx, F), context_design(Ctx, F, A), violation(R, V),
@@ -63,6 +89,8 @@ Commands:
   :run                finish the mesh (smoothing included)
   :front              the loops of the front: node(angle) in order
   :svg FILE.svg       draw the elements made so far and the front
+  :write FILE         write the mesh (.msh, .vtk, .svg, .json: by extension);
+                      before the mesh is complete, the elements made so far
   :trace on|off       print trace lines on :step and :run (default on)
   :help               this text
   :quit               end the session (also halt, or end of input)";
@@ -83,6 +111,8 @@ pub struct Repl<'k> {
     name: String,
     /// The finished mesh, once `:run` or `:step` completed it.
     finished: Option<MeshResult>,
+    /// Set from outside (Ctrl-C) to stop the query or run under way.
+    interrupt: Arc<AtomicBool>,
 }
 
 impl<'k> Repl<'k> {
@@ -95,7 +125,16 @@ impl<'k> Repl<'k> {
             trace: true,
             name: String::new(),
             finished: None,
+            interrupt: Arc::new(AtomicBool::new(false)),
         }
+    }
+
+    /// The flag that stops the query or run under way at its next answer
+    /// or element (a Ctrl-C handler sets it). Set while nothing runs, it
+    /// stops the next query or run that starts; the session clears it
+    /// when it acts on it.
+    pub fn interrupt_flag(&self) -> Arc<AtomicBool> {
+        Arc::clone(&self.interrupt)
     }
 
     fn kb(&mut self) -> &mut KnowledgeBase {
@@ -183,6 +222,7 @@ impl<'k> Repl<'k> {
             ("run", None) => self.advance(None, out)?,
             ("front", None) => self.print_front(out)?,
             ("svg", Some(path)) => self.svg(path, out)?,
+            ("write", Some(path)) => self.write(path, out)?,
             ("trace", Some("on")) => self.trace = true,
             ("trace", Some("off")) => self.trace = false,
             ("trace", _) => writeln!(out, "error: :trace takes on or off")?,
@@ -201,9 +241,14 @@ impl<'k> Repl<'k> {
         mut more: Option<&mut dyn FnMut(&str) -> bool>,
     ) -> io::Result<()> {
         let interactive = more.is_some();
-        let mut answers: Vec<String> = Vec::new();
+        // the answers not yet shown (on a terminal, those that end the
+        // query), and whether each may have another after it
+        let mut answers: Vec<(String, More)> = Vec::new();
+        let mut shown = 0usize;
         let mut error: Option<String> = None;
-        let mut stopped = false;
+        // why the query stopped before the engine said there is no more
+        let mut stop: Option<Stop> = None;
+        let interrupt = Arc::clone(&self.interrupt);
         let kb = self.kb();
         // The engine is a library we do not control: should it panic on
         // some goal (halt(300) does), the session reports it in one line
@@ -216,7 +261,7 @@ impl<'k> Repl<'k> {
                     error = Some(e);
                     false
                 }
-                UserAnswer::Bindings(b) => {
+                UserAnswer::Bindings(b, m) => {
                     let text = if b.is_empty() {
                         "true".to_string()
                     } else {
@@ -225,13 +270,30 @@ impl<'k> Repl<'k> {
                             .collect::<Vec<_>>()
                             .join(", ")
                     };
-                    if let Some(ask) = more.as_mut() {
-                        stopped = !ask(&text);
-                        return !stopped;
+                    if interrupt.swap(false, Ordering::SeqCst) {
+                        answers.push((text, More::Maybe));
+                        stop = Some(Stop::Interrupted);
+                        return false;
                     }
-                    answers.push(text);
-                    stopped = answers.len() >= MAX_ANSWERS;
-                    !stopped
+                    if m == More::No {
+                        // the last answer: shown with its full stop below
+                        answers.push((text, m));
+                        return false;
+                    }
+                    if let Some(ask) = more.as_mut() {
+                        shown += 1;
+                        if !ask(&text) {
+                            stop = Some(Stop::Asked);
+                            return false;
+                        }
+                        return true;
+                    }
+                    answers.push((text, m));
+                    if answers.len() >= MAX_ANSWERS {
+                        stop = Some(Stop::Enough);
+                        return false;
+                    }
+                    true
                 }
             });
         }));
@@ -245,23 +307,34 @@ impl<'k> Repl<'k> {
         if outcome.is_err() {
             error = Some("the Prolog engine failed on this query (its state may be damaged: :quit and start again if answers look wrong)".into());
         }
+        // As a Prolog toplevel: answers joined by ;, the last with a full
+        // stop when it is known to be the last, else followed by false.
         let n = answers.len();
-        for (i, a) in answers.iter().enumerate() {
-            let prefix = if i == 0 { "   " } else { ";  " };
-            let end = if i + 1 == n && error.is_none() && !stopped {
+        let ends = error.is_none() && stop.is_none();
+        for (i, (a, m)) in answers.iter().enumerate() {
+            let prefix = if shown + i == 0 || interactive {
+                "   "
+            } else {
+                ";  "
+            };
+            let end = if i + 1 == n && ends && *m == More::No {
                 "."
             } else {
                 ""
             };
             writeln!(out, "{prefix}{a}{end}")?;
         }
-        if stopped && !interactive {
-            writeln!(out, "   % stopped after {MAX_ANSWERS} answers")?;
-        }
-        match error {
-            Some(e) => writeln!(out, "error: {}", one_line(&e)),
-            None if !stopped && (n == 0 || interactive) => writeln!(out, "   false."),
-            None => Ok(()),
+        let det = answers.last().is_some_and(|(_, m)| *m == More::No);
+        match (error, stop) {
+            (Some(e), _) => writeln!(out, "error: {}", one_line(&e)),
+            (None, Some(Stop::Interrupted)) => writeln!(out, "% interrupted"),
+            (None, Some(Stop::Enough)) => {
+                writeln!(out, "   % stopped after {MAX_ANSWERS} answers")
+            }
+            (None, Some(Stop::Asked)) => Ok(()),
+            (None, None) if det => Ok(()),
+            (None, None) if n + shown == 0 || interactive => writeln!(out, "   false."),
+            (None, None) => writeln!(out, ";  false."),
         }
     }
 
@@ -284,6 +357,8 @@ impl<'k> Repl<'k> {
     /// as `mesh` finishes it) and prints their trace.
     fn advance(&mut self, n: Option<usize>, out: &mut dyn Write) -> io::Result<()> {
         let trace = self.trace;
+        let interrupt = Arc::clone(&self.interrupt);
+        let mut interrupted = false;
         let Some(State::Meshing(run)) = self.state.as_mut() else {
             return writeln!(out, "error: no domain loaded (:load DOMAIN.json)");
         };
@@ -295,6 +370,10 @@ impl<'k> Repl<'k> {
         let mut failure = None;
         loop {
             if n.is_some_and(|n| quads(run) >= quads0 + n) {
+                break;
+            }
+            if interrupt.swap(false, Ordering::SeqCst) {
+                interrupted = true;
                 break;
             }
             match run.step() {
@@ -317,6 +396,9 @@ impl<'k> Repl<'k> {
         }
         if let Some(e) = failure {
             return writeln!(out, "error: {}", one_line(&e));
+        }
+        if interrupted {
+            writeln!(out, "% interrupted")?;
         }
         // stepping stops where the rules are stuck; :run goes on to the
         // last resort, as `mesh` does
@@ -390,6 +472,33 @@ impl<'k> Repl<'k> {
         };
         match write_all(&[(Path::new(path).to_path_buf(), text)]) {
             Ok(()) => writeln!(out, "% wrote {path}"),
+            Err(e) => writeln!(out, "error: {}", one_line(&e.to_string())),
+        }
+    }
+
+    /// `:write FILE`: the session's mesh in the format of the extension;
+    /// before it is complete, the elements made so far.
+    fn write(&mut self, path: &str, out: &mut dyn Write) -> io::Result<()> {
+        let format = match Format::from_path(Path::new(path)) {
+            Ok(f) => f,
+            Err(e) => return writeln!(out, "error: {}", one_line(&e.to_string())),
+        };
+        if format == Format::Svg {
+            return self.svg(path, out);
+        }
+        let (mesh, complete) = match (&self.finished, self.state.as_ref()) {
+            (Some(r), _) => (&r.mesh, true),
+            (None, Some(State::Meshing(run))) => (run.mesher_ref().mesh(), false),
+            _ => return writeln!(out, "error: no domain loaded (:load DOMAIN.json)"),
+        };
+        let text = render(mesh, &self.name, format);
+        let quads = mesh.quads.len();
+        match write_all(&[(Path::new(path).to_path_buf(), text)]) {
+            Ok(()) if complete => writeln!(out, "% wrote {path}: {quads} quads"),
+            Ok(()) => writeln!(
+                out,
+                "% wrote {path}: the {quads} quads made so far (the mesh is not complete)"
+            ),
             Err(e) => writeln!(out, "error: {}", one_line(&e.to_string())),
         }
     }

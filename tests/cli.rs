@@ -376,10 +376,15 @@ fn repl_answers_front_queries_and_goes_on_after_a_malformed_one() {
     assert!(!after.is_empty(), "answers after the error: {out}");
     for l in after {
         let l = l.trim_start_matches([' ', ';']).trim_end_matches('.');
+        if l == "false" {
+            continue; // the last answer had choice points left
+        }
         let (e, f) = l.split_once(", F = ").expect("E = .., F = .. bindings");
         assert!(e.starts_with("E = "), "{l}");
+        // F = at(Feature, Node): the feature and the end it is anchored on
+        let feature = f.trim_start_matches("at(").split(',').next().unwrap();
         assert!(
-            ["b1", "b2", "b3", "b4", "b5"].contains(&f),
+            ["b1", "b2", "b3", "b4", "b5"].contains(&feature),
             "F is a paper feature: {l}"
         );
     }

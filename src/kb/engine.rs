@@ -9,7 +9,7 @@
 //! mesh and the trace are the same as without the cache, and the engine's
 //! per-query memory (it keeps ~2 bytes a query character) stays bounded.
 
-use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, Term};
+use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, OutputStreamConfig, StreamConfig, Term};
 
 use crate::kb::error::KbError;
 use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
@@ -31,18 +31,30 @@ pub const BUILTIN_KB: &[(&str, &str)] = &[
 
 const LOADER: &str = include_str!("loader.pl");
 
-/// Predicates a `--kb` file replaces instead of extending.
+/// Predicates a `--kb` file replaces instead of extending: one of arity 1
+/// (`strategy/1`) whole, one of arity 2 or more (`bound/2`) name by name,
+/// by its first argument (`fm_consult/3` in `loader.pl`).
 const SETTINGS: &[&str] = &["strategy/1", "bound/2"];
 
 /// One answer's bindings.
 pub type Bindings = BTreeMap<String, Term>;
 
+/// Whether a query may have another answer after this one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum More {
+    /// The goal left no choice point: this answer is its last.
+    No,
+    /// Choice points are left: asking again may give another answer, or
+    /// `false`.
+    Maybe,
+}
+
 /// One answer to a query the user typed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum UserAnswer {
     /// A solution: each named variable with its value as Prolog text
-    /// (empty: `true`).
-    Bindings(Vec<(String, String)>),
+    /// (empty: `true`), and whether another may follow.
+    Bindings(Vec<(String, String)>, More),
     /// A syntax error, an exception or a runaway, in Prolog's words.
     Error(String),
 }
@@ -81,10 +93,25 @@ impl KnowledgeBase {
     /// A machine with the built-in KB loaded (about 0.1-0.2 s: build it
     /// once per run or per worker).
     pub fn builtin() -> Result<KnowledgeBase, KbError> {
+        Self::with_streams(StreamConfig::in_memory())
+    }
+
+    /// The built-in KB for a person typing queries (`freemesh repl`):
+    /// what the queries write goes to standard output, and the libraries
+    /// a Prolog prompt has are loaded.
+    pub fn builtin_for_prompt() -> Result<KnowledgeBase, KbError> {
+        let streams = StreamConfig::in_memory().with_user_output(OutputStreamConfig::stdout());
+        let mut kb = Self::with_streams(streams)?;
+        kb.load_query_libraries()?;
+        Ok(kb)
+    }
+
+    fn with_streams(streams: StreamConfig) -> Result<KnowledgeBase, KbError> {
         // the engine's own toplevel (its REPL, with a dozen libraries) is
         // not used here: a bare one halves the time a machine takes to
         // build; the loader and the KB load the libraries they use
         let mut machine = MachineBuilder::default()
+            .with_streams(streams)
             .with_toplevel(":- module('$toplevel', []).")
             .build();
         machine.consult_module_string("fm_loader", LOADER.to_string());
@@ -167,11 +194,16 @@ impl KnowledgeBase {
         for answer in self.machine.run_query(q) {
             let answer = match answer {
                 Ok(LeafAnswer::LeafAnswer { mut bindings, .. }) => match bindings.remove("A") {
-                    Some(Term::Compound(f, args)) if f == "answer" && args.len() == 1 => {
-                        UserAnswer::Bindings(match &args[0] {
+                    Some(Term::Compound(f, args)) if f == "answer" && args.len() == 2 => {
+                        let bindings = match &args[0] {
                             Term::List(items) => items.iter().filter_map(binding_pair).collect(),
                             _ => Vec::new(),
-                        })
+                        };
+                        let more = match &args[1] {
+                            Term::Atom(a) if a == "last" => More::No,
+                            _ => More::Maybe,
+                        };
+                        UserAnswer::Bindings(bindings, more)
                     }
                     Some(Term::Compound(f, args)) if f == "error" && args.len() == 1 => {
                         UserAnswer::Error(atom_or_text(&args[0]))
@@ -184,7 +216,7 @@ impl KnowledgeBase {
                         UserAnswer::Error(format!("unexpected answer {}", term_text(&other)))
                     }
                 },
-                Ok(LeafAnswer::True) => UserAnswer::Bindings(Vec::new()),
+                Ok(LeafAnswer::True) => UserAnswer::Bindings(Vec::new(), More::Maybe),
                 Ok(LeafAnswer::False) => break,
                 Ok(LeafAnswer::Exception(e)) | Err(e) => UserAnswer::Error(term_text(&e)),
             };
@@ -229,8 +261,9 @@ impl KnowledgeBase {
     }
 
     /// Loads the libraries a person typing queries expects at a Prolog
-    /// prompt (`format/2`, `must_be/2`, ...): the engine's own toplevel
-    /// brings them, and the machines here are built without it.
+    /// prompt (`between/3`, `format/2`, `dif/2`, `must_be/2`, ...): the
+    /// engine's own toplevel brings some of them, and the machines here
+    /// are built without it.
     pub fn load_query_libraries(&mut self) -> Result<(), KbError> {
         self.run(terms::QUERY_LIBRARIES).map(|_| ())
     }
@@ -320,8 +353,9 @@ impl KnowledgeBase {
 
     /// Consults a user's KB file: every clause is checked first; a file
     /// with any unsound clause is refused whole, naming file and line.
-    /// Settings (`strategy/1`, `bound/2`) it defines replace the built-in
-    /// ones; its other clauses are added after the built-in rules.
+    /// Settings it defines replace the built-in ones (`strategy/1` whole,
+    /// `bound/2` by name); its other clauses are added after the built-in
+    /// rules.
     pub fn consult_file(&mut self, path: &str) -> Result<usize, KbError> {
         std::fs::metadata(path).map_err(|e| KbError::Read {
             path: path.into(),

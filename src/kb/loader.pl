@@ -2,8 +2,8 @@
 
 fm_consult(+Path, +Settings, -Result) reads every term of Path, checks
 it, and only if the whole file is sound replaces the settings it defines
-(predicates of Settings, e.g. [strategy/1, bound/2]) and adds the other
-clauses. Result is ok(Count) or error(Line, Reason).
+(predicates of Settings, e.g. [strategy/1, bound/2]: strategy/1 whole,
+bound/2 by name) and adds the other clauses. Result is ok(Count) or error(Line, Reason).
 */
 
 :- use_module(library(lists)).
@@ -86,19 +86,44 @@ fm_directive_ok_(discontiguous(_)).
 fm_directive_ok_(use_module(library(_))).
 
 fm_add_all_(Items, Settings, N) :-
-    fm_settings_defined_(Items, Settings, Ps),
-    forall(member(Nm/Ar, Ps), (functor(G, Nm, Ar), retractall(G))),
+    fm_settings_defined_(Items, Settings, Gs),
+    forall(member(G, Gs), retractall(G)),
     fm_add_items_(Items, 0, N).
 
-% The settings (of Settings) the file defines: it replaces them.
-fm_settings_defined_(Items, Settings, Ps) :-
-    findall(N0/A0, (member(item(_, T), Items), fm_head_(T, H), functor(H, N0, A0), member(N0/A0, Settings)), Ps0),
-    sort(Ps0, Ps).
+% The settings (of Settings) the file defines, as the general heads of the
+% clauses it replaces: a setting of arity 1 (strategy/1) is replaced
+% whole, one of arity 2 or more (bound/2) name by name, by its first
+% argument, so that a file holding bound(upper_corner, 140) leaves the
+% other bounds as they were.
+fm_settings_defined_(Items, Settings, Gs) :-
+    findall(Key,
+            ( member(item(_, T), Items), fm_head_(T, H),
+              functor(H, N0, A0), member(N0/A0, Settings),
+              fm_setting_key_(H, Key) ),
+            Keys0),
+    sort(Keys0, Keys),
+    findall(G,
+            ( member(Key, Keys),
+              \+ ( Key = name(N, A, _), member(whole(N, A), Keys) ),
+              fm_key_head_(Key, G) ),
+            Gs).
+
+fm_setting_key_(H, name(N, A, Name)) :-
+    functor(H, N, A),
+    A >= 2,
+    arg(1, H, Name),
+    atomic(Name),
+    !.
+fm_setting_key_(H, whole(N, A)) :-
+    functor(H, N, A).
+
+fm_key_head_(whole(N, A), G) :- functor(G, N, A).
+fm_key_head_(name(N, A, Name), G) :- functor(G, N, A), arg(1, G, Name).
 
 % The clauses of the settings the file replaces, to restore on undo.
 fm_saved_settings_(Items, Settings, Saved) :-
-    fm_settings_defined_(Items, Settings, Ps),
-    findall((G :- B), (member(Nm/Ar, Ps), functor(G, Nm, Ar), clause(G, B)), Saved).
+    fm_settings_defined_(Items, Settings, Gs),
+    findall((G :- B), (member(G, Gs), clause(G, B)), Saved).
 
 % Takes a refused file back out: its clauses retracted, the settings it
 % replaced restored.
@@ -182,16 +207,17 @@ fm_add_items_([item(_, T) | Items], N0, N) :-
 %% fm_front_set(+Nodes, +Edges, +Angles, +Contexts)
 %
 % Replaces the front facts: Nodes are xy(N, X, Y), Edges e(N1, N2),
-% Angles a(N, Degrees), Contexts c(E, Ctx).
+% Angles a(N, Degrees), Contexts c(E, N, Ctx) (the front edge E read
+% from its end N).
 fm_front_set(Nodes, Edges, Angles, Ctxs) :-
     retractall(node_xy(_, _, _)),
     retractall(front_edge(_, _)),
     retractall(node_angle(_, _)),
-    retractall(edge_context(_, _)),
+    retractall(edge_context(_, _, _)),
     forall(member(xy(N, X, Y), Nodes), assertz(node_xy(N, X, Y))),
     forall(member(e(A, B), Edges), assertz(front_edge(A, B))),
     forall(member(a(N1, T), Angles), assertz(node_angle(N1, T))),
-    forall(member(c(E, C), Ctxs), assertz(edge_context(E, C))).
+    forall(member(c(E, N, C), Ctxs), assertz(edge_context(E, N, C))).
 
 /* Host support: a user's query, typed at the REPL. */
 
@@ -200,8 +226,10 @@ fm_front_set(Nodes, Edges, Angles, Ctxs) :-
 % Reads the query from its character codes (so no text the user types
 % can break the host's query), calls it with at most Limit inferences per
 % answer and gives, one per solution on backtracking:
-%   answer(Bindings)   Bindings a list of Name = Text (the value written
-%                      as Prolog text, variables by their names)
+%   answer(Bindings, More)
+%                      Bindings a list of Name = Text (the value written
+%                      as Prolog text, variables by their names); More is
+%                      last when no other answer can follow, else more
 %   error(Text)        a syntax error, an exception or a runaway; last
 fm_repl_query(Codes, Limit, Answer) :-
     atom_codes(Atom, Codes),
@@ -212,8 +240,37 @@ fm_repl_query(Codes, Limit, Answer) :-
         (   nonvar(E2) -> fm_error_text_(E2, Answer)
         ;   R == inference_limit_exceeded ->
             Answer = error('the query ran past the inference limit (a loop?)')
-        ;   fm_bindings_(Vs, Vs, Bs), Answer = answer(Bs)
+        ;   fm_fresh_names_(Vs, Names),
+            fm_bindings_(Vs, Names, Bs),
+            % R is ! when the goal left no choice point: no answer can follow
+            (   R == ! -> More = last ; More = more ),
+            Answer = answer(Bs, More)
         )
+    ).
+
+% The variables of the answers the query did not name are written _A,
+% _B, ... (as the engine's own toplevel does), never as a name of the
+% query's.
+fm_fresh_names_(Vs, Names) :-
+    term_variables(Vs, Free),
+    fm_name_free_(Free, Vs, 0, Extra),
+    append(Vs, Extra, Names).
+
+fm_name_free_([], _, _, []).
+fm_name_free_([V | Free], Vs, I, Extra) :-
+    (   member(_ = W, Vs), W == V -> Extra = Extra1, I1 = I
+    ;   fm_fresh_name_(I, Vs, Name, I1), Extra = [Name = V | Extra1]
+    ),
+    fm_name_free_(Free, Vs, I1, Extra1).
+
+fm_fresh_name_(I, Vs, Name, I1) :-
+    Letter is 0'A + I mod 26,
+    (   I < 26 -> atom_codes(Name0, [0'_, Letter])
+    ;   N is I // 26, number_codes(N, Ds), atom_codes(Name0, [0'_, Letter | Ds])
+    ),
+    I0 is I + 1,
+    (   member(Name0 = _, Vs) -> fm_fresh_name_(I0, Vs, Name, I1)
+    ;   Name = Name0, I1 = I0
     ).
 
 fm_bindings_([], _, []).

@@ -12,7 +12,7 @@ mod second_engine;
 mod terms;
 mod vocabulary;
 
-pub use engine::{KbStats, KnowledgeBase, UserAnswer};
+pub use engine::{KbStats, KnowledgeBase, More, UserAnswer};
 pub use error::KbError;
 pub use vocabulary::{
     Action, Context, Corner, Designed, ElementEdge, ElementNode, FrontFacts, PatternKind,

@@ -480,7 +480,7 @@ pub(super) fn front_facts_statement(facts: &FrontFacts) -> String {
     let ctxs: Vec<String> = facts
         .contexts
         .iter()
-        .map(|(a, b, ctx)| format!("c({a}-{b}, {ctx})"))
+        .map(|(a, b, from, ctx)| format!("c({a}-{b}, {from}, {ctx})"))
         .collect();
     format!(
         "fm_front_set([{}], [{}], [{}], [{}]).",
@@ -568,8 +568,14 @@ pub(super) const NOT_ONLY_BUILT_IN_RULES: &str = "retractall(fm_only_built_in_ru
 
 /// The libraries a person typing queries expects at a Prolog prompt.
 pub(super) const QUERY_LIBRARIES: &str =
-    "use_module(library(format)), use_module(library(error)), \
-     use_module(library(si)), use_module(library(lambda)).";
+    "use_module(library(lists)), use_module(library(between)), \
+     use_module(library(format)), use_module(library(dif)), \
+     use_module(library(error)), use_module(library(si)), \
+     use_module(library(lambda)), use_module(library(iso_ext)), \
+     use_module(library(charsio)), use_module(library(dcgs)), \
+     use_module(library(pairs)), use_module(library(ordsets)), \
+     use_module(library(assoc)), use_module(library(freeze)), \
+     use_module(library(reif)), use_module(library(time)).";
 
 /// The loader's question that checks and adds a user's file (`Settings`:
 /// the predicates the file replaces instead of extending).

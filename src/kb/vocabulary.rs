@@ -215,6 +215,7 @@ pub struct FrontFacts {
     pub edges: Vec<(u32, u32)>,
     /// The interior angle at each occurrence (whole degrees).
     pub angles: Vec<(u32, f64)>,
-    /// Both readings of every edge, N1 and N2 with the context.
-    pub contexts: Vec<(u32, u32, Context)>,
+    /// Both readings of every edge: the edge as the front has it, the
+    /// node the reading starts from (N1) and the context.
+    pub contexts: Vec<(u32, u32, u32, Context)>,
 }
