@@ -23,8 +23,10 @@ pub mod check;
 pub mod cleanup;
 pub mod design;
 pub mod domain;
+pub mod dxf_reader;
 pub mod front;
 pub mod geometry;
+pub mod inp;
 pub mod kb;
 pub mod mesh;
 pub mod mesh_reader;
@@ -33,6 +35,7 @@ pub mod output;
 pub mod quality;
 pub mod repl;
 pub mod second_engine;
+pub mod second_order;
 pub mod smoothing;
 pub mod trace;
 pub mod triangle_fallback;
@@ -42,6 +45,7 @@ pub use kb::{KbError, KnowledgeBase};
 pub use mesh::{Mesh, NodeKind};
 pub use mesher::{MeshError, MeshStats};
 pub use quality::Quality;
+pub use second_order::{ElementKind, SecondOrder};
 pub use trace::TraceStep;
 
 /// How many times at most the clean-up and the smoothing round its
