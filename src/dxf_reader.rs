@@ -151,6 +151,92 @@ impl DomainFile {
     pub fn to_json_value(&self) -> serde_json::Value {
         serde_json::to_value(self).unwrap_or_default()
     }
+
+    /// The domain file's text: pretty JSON, keys in the format's order,
+    /// each point and each list of numbers or tags on one line.
+    pub fn to_pretty_json(&self) -> String {
+        let text = serde_json::to_string_pretty(self).unwrap_or_default();
+        let mut out = one_line_flat_arrays(&text);
+        out.push('\n');
+        out
+    }
+}
+
+/// Puts every array of pretty JSON that holds no array or object on one
+/// line (`[\n  1.0,\n  2.0\n]` becomes `[1.0, 2.0]`).
+fn one_line_flat_arrays(text: &str) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c == '"' {
+            // a string, escapes and all
+            let start = i;
+            i += 1;
+            while i < chars.len() && chars[i] != '"' {
+                i += if chars[i] == '\\' { 2 } else { 1 };
+            }
+            out.extend(&chars[start..=i.min(chars.len() - 1)]);
+            i += 1;
+            continue;
+        }
+        if c == '[' {
+            // find the end if nothing nested comes first
+            let (mut j, mut in_string, mut flat) = (i + 1, false, true);
+            while j < chars.len() {
+                match chars[j] {
+                    '\\' if in_string => j += 1,
+                    '"' => in_string = !in_string,
+                    '[' | '{' if !in_string => {
+                        flat = false;
+                        break;
+                    }
+                    ']' if !in_string => break,
+                    _ => {}
+                }
+                j += 1;
+            }
+            if flat && j < chars.len() {
+                // the items, whitespace outside strings dropped
+                let mut item = String::new();
+                let mut items = Vec::new();
+                let mut in_string = false;
+                let mut k = i + 1;
+                while k < j {
+                    let d = chars[k];
+                    if in_string {
+                        item.push(d);
+                        if d == '\\' {
+                            k += 1;
+                            item.push(chars[k]);
+                        } else if d == '"' {
+                            in_string = false;
+                        }
+                    } else if d == '"' {
+                        in_string = true;
+                        item.push(d);
+                    } else if d == ',' {
+                        items.push(std::mem::take(&mut item));
+                    } else if !d.is_whitespace() {
+                        item.push(d);
+                    }
+                    k += 1;
+                }
+                if !item.is_empty() {
+                    items.push(item);
+                }
+                out.push('[');
+                out.push_str(&items.join(", "));
+                out.push(']');
+                i = j + 1;
+                continue;
+            }
+        }
+        out.push(c);
+        i += 1;
+    }
+    out
 }
 
 /// The outline of a drawing: loops and lines, with what was learnt on
@@ -456,10 +542,20 @@ impl Graph {
             end_point[i][side] = q;
         }
         let mut edges = Vec::new();
+        // an edge drawn twice (CAD drawings often hold copies) counts once
+        let mut seen = std::collections::HashSet::new();
         for (i, e) in drawn.iter().enumerate() {
             let ends = end_point[i];
             if ends[0] == ends[1] {
                 continue; // shorter than the tolerance: a point
+            }
+            let key = if ends[0] < ends[1] {
+                (ends[0], ends[1], (e.bulge + 0.0).to_bits())
+            } else {
+                (ends[1], ends[0], (0.0 - e.bulge).to_bits())
+            };
+            if !seen.insert(key) {
+                continue;
             }
             edges.push(GraphEdge {
                 ends,
@@ -487,7 +583,8 @@ impl Graph {
         if h.1 {
             self.edges[h.0].bulge
         } else {
-            -self.edges[h.0].bulge
+            // 0 - b, not -b: a straight edge stays 0, not -0
+            0.0 - self.edges[h.0].bulge
         }
     }
 
@@ -978,13 +1075,16 @@ mod tests {
     }
 
     #[test]
-    fn four_lines_in_any_order_and_direction_make_one_counter_clockwise_loop() {
+    fn four_lines_in_any_order_and_direction_and_a_copy_make_one_counter_clockwise_loop() {
         let edges = [
             line([10.0, 5.0], [10.0, 0.0], "right"),
             line([0.0, 0.0], [10.0, 0.0], "bottom"),
             line([0.0, 5.0], [0.0, 0.0], ""),
             line([0.0, 5.0], [10.0, 5.0], "top"),
         ];
+        let mut edges = edges.to_vec();
+        // the bottom drawn again, the other way
+        edges.push(line([10.0, 0.0], [0.0, 0.0], "bottom"));
         let o = outline_of(&edges, &[], "t.dxf").unwrap();
         assert_eq!(
             o.outer,
@@ -1102,6 +1202,31 @@ mod tests {
         assert_eq!(
             lines,
             vec![vec![[4.0, 0.0], [4.0, 5.0]], vec![[8.0, 2.0], [10.0, 2.0]]]
+        );
+    }
+
+    #[test]
+    fn an_arc_seen_from_below_is_mirrored_and_turns_the_other_way() {
+        use ::dxf::entities::{Arc, Entity, EntityType};
+        let mut drawing = ::dxf::Drawing::new();
+        let mut arc = Arc::new(::dxf::Point::new(0.0, 0.0, 0.0), 1.0, 0.0, 90.0);
+        arc.normal = ::dxf::Vector::new(0.0, 0.0, -1.0);
+        drawing.add_entity(Entity::new(EntityType::Arc(arc)));
+        let (edges, _, _) = drawn_geometry(&drawing, "t.dxf").unwrap();
+        // from (-1, 0) clockwise (seen from above) to (0, 1)
+        assert!((edges[0].a - DVec2::new(-1.0, 0.0)).length() < 1e-15);
+        assert!((edges[0].b - DVec2::new(0.0, 1.0)).length() < 1e-15);
+        assert!((edges[0].bulge + (PI / 8.0).tan()).abs() < 1e-15);
+        assert!(!edges[0].typed);
+    }
+
+    #[test]
+    fn flat_arrays_go_on_one_line_and_strings_are_left_alone() {
+        let v = serde_json::json!({"a": [[0.0, 1.5], [2.0, 3.0]], "t": ["x, [y]", "\"q\""]});
+        let text = serde_json::to_string_pretty(&v).unwrap();
+        assert_eq!(
+            one_line_flat_arrays(&text),
+            "{\n  \"a\": [\n    [0.0, 1.5],\n    [2.0, 3.0]\n  ],\n  \"t\": [\"x, [y]\", \"\\\"q\\\"\"]\n}"
         );
     }
 

@@ -154,9 +154,8 @@ fn convert(args: cli::ConvertArgs) -> Result<()> {
             args.input.display()
         )
     })?;
-    let mut text = serde_json::to_string_pretty(&file)?;
-    text.push('\n');
-    write_all(&[(args.output.clone(), text)]).context("writing the domain file")?;
+    write_all(&[(args.output.clone(), file.to_pretty_json())])
+        .context("writing the domain file")?;
     eprintln!(
         "{}: {} -> {}",
         args.input.display(),

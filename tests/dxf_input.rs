@@ -1,5 +1,5 @@
 //! DXF outlines in: a drawing made by an outside program (ezdxf, see
-//! tests/inputs/bracket.py) read into the domain typed by hand, meshed to
+//! tests/inputs/dxf/bracket.py) read into the domain typed by hand, meshed to
 //! the same mesh, converted to a domain file; the errors.
 
 use std::path::{Path, PathBuf};
@@ -55,9 +55,9 @@ fn assert_json_near(got: &serde_json::Value, want: &serde_json::Value, tol: f64,
 
 #[test]
 fn the_ezdxf_drawing_reads_as_the_domain_typed_by_hand() {
-    let outline = read_dxf(Path::new("tests/inputs/bracket.dxf")).unwrap();
+    let outline = read_dxf(Path::new("tests/inputs/dxf/bracket.dxf")).unwrap();
     let got = outline.domain_file("bracket", 2.5, None).to_json_value();
-    let want = read_json(Path::new("tests/inputs/bracket.json"));
+    let want = read_json(Path::new("tests/inputs/dxf/bracket.json"));
     // the arcs' ends are computed from their angles: within rounding
     assert_json_near(&got, &want, 1e-12, "domain");
     // the TEXT label is skipped, and said so
@@ -94,7 +94,7 @@ fn the_dxf_meshes_to_the_same_mesh_as_the_json_domain() {
     let (from_dxf, from_json) = (tmp("bracket-dxf.json"), tmp("bracket-json.json"));
     let o = freemesh(&[
         "mesh",
-        "tests/inputs/bracket.dxf",
+        "tests/inputs/dxf/bracket.dxf",
         "--size",
         "2.5",
         "-o",
@@ -102,11 +102,11 @@ fn the_dxf_meshes_to_the_same_mesh_as_the_json_domain() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     // the skipped label is a warning, the tags no unknown keys
-    assert!(stderr(&o).contains("warning: tests/inputs/bracket.dxf: skipped 1 TEXT"));
+    assert!(stderr(&o).contains("warning: tests/inputs/dxf/bracket.dxf: skipped 1 TEXT"));
     assert!(!stderr(&o).contains("unknown keys"), "{}", stderr(&o));
     let o = freemesh(&[
         "mesh",
-        "tests/inputs/bracket.json",
+        "tests/inputs/dxf/bracket.json",
         "-o",
         from_json.to_str().unwrap(),
     ]);
@@ -129,7 +129,7 @@ fn convert_writes_the_domain_file_of_a_drawing() {
     let out = tmp("converted.json");
     let o = freemesh(&[
         "convert",
-        "tests/inputs/bracket.dxf",
+        "tests/inputs/dxf/bracket.dxf",
         "--size",
         "2.5",
         "-o",
@@ -141,7 +141,7 @@ fn convert_writes_the_domain_file_of_a_drawing() {
         "{}",
         stderr(&o)
     );
-    let want = read_json(Path::new("tests/inputs/bracket.json"));
+    let want = read_json(Path::new("tests/inputs/dxf/bracket.json"));
     assert_json_near(&read_json(&out), &want, 1e-12, "converted");
     // pretty, in the format's order of keys
     let text = std::fs::read_to_string(&out).unwrap();
@@ -155,11 +155,16 @@ fn convert_writes_the_domain_file_of_a_drawing() {
 fn a_drawing_without_a_size_is_refused_in_one_line() {
     for cmd in ["mesh", "convert"] {
         let out = tmp(&format!("nosize-{cmd}.json"));
-        let o = freemesh(&[cmd, "tests/inputs/bracket.dxf", "-o", out.to_str().unwrap()]);
+        let o = freemesh(&[
+            cmd,
+            "tests/inputs/dxf/bracket.dxf",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
         assert_eq!(o.status.code(), Some(1));
         assert_eq!(
             stderr(&o).trim(),
-            "error: tests/inputs/bracket.dxf: a DXF drawing gives no element size: give one with --size H (the boundary segment length)"
+            "error: tests/inputs/dxf/bracket.dxf: a DXF drawing gives no element size: give one with --size H (the boundary segment length)"
         );
         assert!(!out.exists());
     }

@@ -72,7 +72,7 @@ fn middle(a: P, b: P) -> P {
     [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
 }
 
-/// The circles of tests/inputs/bracket.json (arcs and round holes), as
+/// The circles of tests/inputs/dxf/bracket.json (arcs and round holes), as
 /// centre and radius.
 const BRACKET_CIRCLES: [(P, f64); 5] = [
     ([60.0, 30.0], 20.0), // the rounded corner
@@ -120,7 +120,11 @@ fn check_middles(m: &Mesh, circles: &[(P, f64)]) -> usize {
 
 #[test]
 fn mid_edge_nodes_lie_on_the_arcs_and_circles_within_1e_9() {
-    let m = mesh("tests/inputs/bracket.json", &["--order", "2"], "bracket-8");
+    let m = mesh(
+        "tests/inputs/dxf/bracket.json",
+        &["--order", "2"],
+        "bracket-8",
+    );
     assert!(m.elements.iter().all(|e| e.len() == 8));
     let on_arcs = check_middles(&m, &BRACKET_CIRCLES);
     // the arcs' lengths over size 2.5: 12.6, 37.7, 20.1 and twice 5.0

@@ -1,10 +1,10 @@
-"""Draws tests/inputs/bracket.dxf with ezdxf (pip install ezdxf), as a CAD
+"""Draws tests/inputs/dxf/bracket.dxf with ezdxf (pip install ezdxf), as a CAD
 program would: a bracket outline made of LINEs, an ARC and an LWPOLYLINE
 with a bulge, on several layers; a round hole (CIRCLE), a slot (a closed
 POLYLINE with bulges), an open weld line (LWPOLYLINE) inside, and a TEXT
-label. tests/inputs/bracket.json is the same domain typed by hand.
+label. tests/inputs/dxf/bracket.json is the same domain typed by hand.
 
-    python3 tests/inputs/bracket.py tests/inputs/bracket.dxf
+    python3 tests/inputs/dxf/bracket.py tests/inputs/dxf/bracket.dxf
 """
 import math
 import sys
