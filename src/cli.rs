@@ -78,7 +78,7 @@ pub struct ReplArgs {
 /// Arguments of `freemesh features`.
 #[derive(Debug, clap::Args)]
 pub struct FeaturesArgs {
-    /// The domain file.
+    /// The domain file (JSON, or a DXF outline with --size).
     pub domain: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]

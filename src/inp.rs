@@ -6,8 +6,9 @@
 //!
 //! Element types: CPS4 (4-node plane stress), CPS8 (8-node plane stress)
 //! for second-order serendipity quads. Abaqus has no 9-node plane stress
-//! element and CalculiX no 9-node element at all: 9-node quads are written
-//! as S9R5 (Abaqus' 9-node thin shell, which meshio reads as `quad9`).
+//! element and CalculiX no 9-node element at all (2.20 refuses S9R5 as
+//! unknown): 9-node quads are written as S9R5, Abaqus' 9-node thin shell,
+//! which meshio reads as `quad9`.
 //!
 //! Abaqus names are letters, digits and underscores, starting with a
 //! letter, at most 80 characters, and case does not tell them apart: each

@@ -229,7 +229,7 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
 
 fn features(args: cli::FeaturesArgs) -> Result<()> {
     use std::io::Write;
-    let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    let domain = read_domain(&args.domain, args.size)?;
     warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
     let f = freemesh::domain_features(&domain, &mut kb, args.size)?;

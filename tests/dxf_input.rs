@@ -260,3 +260,12 @@ fn a_file_that_is_not_dxf_is_refused_in_one_line() {
         "{err}"
     );
 }
+
+#[test]
+fn features_reads_a_drawing_too() {
+    let o = freemesh(&["features", "tests/inputs/dxf/bracket.dxf", "--size", "2.5"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.starts_with("nodes: id x y angle concave\n"), "{text}");
+    assert!(text.contains("concave"), "the weld line's ends are reflex");
+}
