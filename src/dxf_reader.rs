@@ -855,6 +855,7 @@ pub fn outline_of(
     let free_ends: Vec<usize> = (0..g.points.len())
         .filter(|&p| g.at[p].len() == 1)
         .collect();
+    // the two nearest free ends, or (no two) a chain that is no loop
     let gap = |more: usize| -> DxfError {
         let mut best: Option<(f64, usize, usize)> = None;
         for (i, &p) in free_ends.iter().enumerate() {
@@ -865,29 +866,27 @@ pub fn outline_of(
                 }
             }
         }
-        let (distance, p, q) = best.unwrap_or((0.0, free_ends[0], free_ends[0]));
-        DxfError::Gap {
-            path: path.into(),
-            from: g.points[p],
-            to: g.points[q],
-            distance,
-            tolerance: tol,
-            more: if more > 1 {
-                format!(" ({more} open chains in all)")
-            } else {
-                String::new()
+        match best {
+            Some((distance, p, q)) => DxfError::Gap {
+                path: path.into(),
+                from: g.points[p],
+                to: g.points[q],
+                distance,
+                tolerance: tol,
+                more: if more > 1 {
+                    format!(" ({more} open chains in all)")
+                } else {
+                    String::new()
+                },
+            },
+            None => DxfError::Shape {
+                path: path.into(),
+                message: "no closed loop round the drawing".into(),
             },
         }
     };
     if found.is_empty() {
-        return Err(if free_ends.len() >= 2 {
-            gap(lines.len())
-        } else {
-            DxfError::Shape {
-                path: path.into(),
-                message: "no closed loop in the drawing".into(),
-            }
-        });
+        return Err(gap(lines.len()));
     }
     let areas: Vec<f64> = found
         .iter()
@@ -1228,6 +1227,13 @@ mod tests {
             one_line_flat_arrays(&text),
             "{\n  \"a\": [\n    [0.0, 1.5],\n    [2.0, 3.0]\n  ],\n  \"t\": [\"x, [y]\", \"\\\"q\\\"\"]\n}"
         );
+    }
+
+    #[test]
+    fn a_drawing_of_points_only_has_no_loop() {
+        let edges = [line([1.0, 1.0], [1.0, 1.0], "")];
+        let e = outline_of(&edges, &[], "t.dxf").unwrap_err().to_string();
+        assert_eq!(e, "t.dxf: no closed loop round the drawing");
     }
 
     #[test]
