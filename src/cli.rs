@@ -15,8 +15,12 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Mesh a domain file (JSON, see domain-format.md).
+    /// Mesh a domain file (JSON, see domain-format.md, or an ASCII DXF
+    /// outline with --size).
     Mesh(MeshArgs),
+    /// Write the domain file (JSON, format 1.1) of a DXF outline, to edit
+    /// it or mesh it later.
+    Convert(ConvertArgs),
     /// Print the boundary features of a domain's initial loop: each node's
     /// angle and concavity, each edge's feature and the KB's action.
     Features(FeaturesArgs),
@@ -29,6 +33,22 @@ pub enum Command {
     /// 2.2, or freemesh's .json): angle range, share in [45, 135], scaled
     /// Jacobian, aspect ratio, taper, size jump, and a histogram of angles.
     Quality(QualityArgs),
+}
+
+/// Arguments of `freemesh convert`.
+#[derive(Debug, clap::Args)]
+pub struct ConvertArgs {
+    /// The drawing: an ASCII DXF file.
+    pub input: PathBuf,
+    /// The domain file to write (.json).
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// Target boundary segment length (a drawing has none: required).
+    #[arg(long)]
+    pub size: Option<f64>,
+    /// Largest interior element edge.
+    #[arg(long)]
+    pub max_size: Option<f64>,
 }
 
 /// Arguments of `freemesh quality`.
@@ -58,7 +78,7 @@ pub struct ReplArgs {
 /// Arguments of `freemesh features`.
 #[derive(Debug, clap::Args)]
 pub struct FeaturesArgs {
-    /// The domain file.
+    /// The domain file (JSON, or a DXF outline with --size).
     pub domain: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -74,13 +94,15 @@ pub struct FeaturesArgs {
 /// Arguments of `freemesh mesh`.
 #[derive(Debug, clap::Args)]
 pub struct MeshArgs {
-    /// The domain file(s). Several files, or a quoted glob
-    /// ('domains/*.json'), are meshed in parallel, one output per input.
+    /// The domain file(s): JSON, or DXF outlines (.dxf, with --size).
+    /// Several files, or a quoted glob ('domains/*.json'), are meshed in
+    /// parallel, one output per input.
     #[arg(required = true)]
     pub domains: Vec<PathBuf>,
     /// Output file; the format follows the extension (.msh, .vtk, .svg,
-    /// .json). Repeat for several. With several domains, write {stem} for
-    /// each domain's file name without extension: -o 'out/{stem}.msh'.
+    /// .json, .inp for Abaqus and CalculiX). Repeat for several. With
+    /// several domains, write {stem} for each domain's file name without
+    /// extension: -o 'out/{stem}.msh'.
     #[arg(short = 'o', long = "output", required = true)]
     pub outputs: Vec<PathBuf>,
     /// Worker threads for several domains, each with its own engine
@@ -91,9 +113,18 @@ pub struct MeshArgs {
     /// element against the host's.
     #[arg(long)]
     pub stats: bool,
-    /// Target boundary segment length (replaces the domain's size).
+    /// Target boundary segment length (replaces the domain's size;
+    /// required for a DXF outline).
     #[arg(long)]
     pub size: Option<f64>,
+    /// Element order: 1 (4-node quads) or 2 (8-node quads, or 9-node
+    /// with --serendipity false), mid-edge nodes on the input's arcs.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub order: u8,
+    /// With --order 2: 8-node serendipity quads (true, the default) or
+    /// 9-node quads with a centre node (false).
+    #[arg(long, action = clap::ArgAction::Set)]
+    pub serendipity: Option<bool>,
     /// Largest interior element edge (replaces the domain's max_size).
     #[arg(long)]
     pub max_size: Option<f64>,

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use freemesh::{mesh_domain, render, write_all, Domain, Format, KnowledgeBase, Options};
+use freemesh::{
+    mesh_domain, render, write_all, Domain, ElementKind, Format, KnowledgeBase, Options, SecondOrder,
+};
 
 // The engine and the mesher make many small, short-lived allocations;
 // mimalloc serves them faster than the system allocator.
@@ -41,10 +43,84 @@ fn main() -> ExitCode {
 fn run(cli: cli::Cli) -> Result<()> {
     match cli.command {
         cli::Command::Mesh(args) => mesh(args),
+        cli::Command::Convert(args) => convert(args),
         cli::Command::Features(args) => features(args),
         cli::Command::Repl(args) => prompt::run(args),
         cli::Command::Quality(args) => quality(args),
     }
+}
+
+/// Whether a domain path names a DXF drawing (by its extension).
+fn is_dxf(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("dxf"))
+}
+
+/// A DXF drawing's domain file with boundary size `size` (required: a
+/// drawing has none); the reader's warnings are printed.
+fn dxf_domain_file(
+    path: &std::path::Path,
+    size: Option<f64>,
+    max_size: Option<f64>,
+) -> Result<(
+    freemesh::DomainFile,
+    freemesh::Outline,
+)> {
+    let Some(size) = size else {
+        anyhow::bail!(
+            "{}: a DXF drawing gives no element size: give one with --size H (the boundary segment length)",
+            path.display()
+        );
+    };
+    let outline = freemesh::read_dxf(path)?;
+    for w in &outline.warnings {
+        eprintln!("warning: {w}");
+    }
+    let name = path.file_stem().map_or_else(
+        || "domain".to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    Ok((outline.domain_file(&name, size, max_size), outline))
+}
+
+/// Reads a domain: a JSON domain file, or a DXF drawing's outline with
+/// the boundary size `size`.
+fn read_domain(path: &std::path::Path, size: Option<f64>) -> Result<Domain> {
+    if !is_dxf(path) {
+        return Ok(Domain::from_file(&path.to_string_lossy())?);
+    }
+    let (file, _) = dxf_domain_file(path, size, None)?;
+    let mut domain = Domain::from_json(&file.to_json_value())
+        .with_context(|| format!("{}: the outline is not a valid domain", path.display()))?;
+    // the keys are the reader's own (a layer's tags among them)
+    domain.unknown_keys.clear();
+    Ok(domain)
+}
+
+fn convert(args: cli::ConvertArgs) -> Result<()> {
+    if !is_dxf(&args.input) {
+        anyhow::bail!(
+            "{}: convert reads DXF drawings (.dxf)",
+            args.input.display()
+        );
+    }
+    let (file, outline) = dxf_domain_file(&args.input, args.size, args.max_size)?;
+    // the file written must mesh: the same checks as a run
+    Domain::from_json(&file.to_json_value()).with_context(|| {
+        format!(
+            "{}: the outline is not a valid domain",
+            args.input.display()
+        )
+    })?;
+    write_all(&[(args.output.clone(), file.to_pretty_json())])
+        .context("writing the domain file")?;
+    eprintln!(
+        "{}: {} -> {}",
+        args.input.display(),
+        outline.summary(),
+        args.output.display()
+    );
+    Ok(())
 }
 
 /// One warning line for the keys of a domain file the format does not know.
@@ -111,7 +187,7 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
 
 fn features(args: cli::FeaturesArgs) -> Result<()> {
     use std::io::Write;
-    let domain = Domain::from_file(&args.domain.to_string_lossy())?;
+    let domain = read_domain(&args.domain, args.size)?;
     warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
     let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
@@ -148,6 +224,9 @@ fn features(args: cli::FeaturesArgs) -> Result<()> {
 }
 
 fn mesh(args: cli::MeshArgs) -> Result<()> {
+    if args.order == 1 && args.serendipity.is_some() {
+        anyhow::bail!("--serendipity is for second-order elements: give --order 2 with it");
+    }
     let formats: Vec<Format> = args
         .outputs
         .iter()
@@ -298,7 +377,7 @@ fn read_and_discretise(
     path: &std::path::Path,
     args: &cli::MeshArgs,
 ) -> Result<(Domain, freemesh::RunBoundary)> {
-    let domain = Domain::from_file(&path.to_string_lossy())?;
+    let domain = read_domain(path, args.size)?;
     let boundary = freemesh::discretise_for_run(&domain, args.size)?;
     Ok((domain, boundary))
 }
@@ -317,7 +396,7 @@ fn mesh_one(
     let t0 = Instant::now();
     let (domain, early_boundary) = match early {
         Some((d, b)) => (d, Some(b)),
-        None => (Domain::from_file(&path.to_string_lossy())?, None),
+        None => (read_domain(path, args.size)?, None),
     };
     warn_unknown_keys(&domain, path);
     let opts = Options::default()
@@ -348,9 +427,18 @@ fn mesh_one(
         b.finish_and_clear();
     }
     let result = result?;
+    let kind = ElementKind::from_order(args.order, args.serendipity.unwrap_or(true))
+        .context("--order is 1 or 2")?;
+    let second =
+        (kind != ElementKind::Quad4).then(|| SecondOrder::build(&result.mesh, &domain, kind));
     let mut files: Vec<(PathBuf, String)> = outputs
         .iter()
-        .map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f)))
+        .map(|(p, f)| {
+            (
+                p.clone(),
+                render(&result.mesh, second.as_ref(), &domain.name, *f),
+            )
+        })
         .collect();
     if let Some(t) = trace_path {
         let mut text = String::new();

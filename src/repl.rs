@@ -491,7 +491,7 @@ impl<'k> Repl<'k> {
             (None, Some(State::Meshing(run))) => (run.mesher_ref().mesh(), false),
             _ => return writeln!(out, "error: no domain loaded (:load DOMAIN.json)"),
         };
-        let text = render(mesh, &self.name, format);
+        let text = render(mesh, None, &self.name, format);
         let quads = mesh.quads.len();
         match write_all(&[(Path::new(path).to_path_buf(), text)]) {
             Ok(()) if complete => writeln!(out, "% wrote {path}: {quads} quads"),

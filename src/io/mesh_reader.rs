@@ -1,7 +1,8 @@
 //! Reading a quadrilateral mesh written by freemesh or another program, so
 //! that `freemesh quality` can measure it: Gmsh's MSH (ASCII, versions 4.1
-//! and 2.2) and freemesh's JSON. Cells other than quads (points, lines,
-//! triangles) are counted, not kept.
+//! and 2.2) and freemesh's JSON. 8- and 9-node quads are read as their
+//! corners; cells other than quads (points, lines, triangles) are counted,
+//! not kept.
 
 use glam::DVec2;
 use std::collections::HashMap;
@@ -166,16 +167,19 @@ fn from_msh(text: &str) -> Result<ReadMesh, String> {
     let mut mesh = Mesh::default();
     let mut id_of: HashMap<u64, u32> = HashMap::new();
     let mut other_faces = 0;
-    // element types: 3 is the 4-node quad; 2, 9, 10, 16 are other faces
+    // element types: 3 is the 4-node quad, 16 and 10 the 8- and 9-node
+    // ones (measured by their corners, the first four); 2 and 9 are other
+    // faces
     let mut add_cell =
         |mesh: &mut Mesh, kind: u32, tags: &[u64], id_of: &HashMap<u64, u32>| match kind {
-            3 => {
-                let ids: Option<Vec<u32>> = tags.iter().map(|t| id_of.get(t).copied()).collect();
+            3 | 10 | 16 => {
+                let ids: Option<Vec<u32>> =
+                    tags[..4].iter().map(|t| id_of.get(t).copied()).collect();
                 let ids = ids.ok_or("a quad names a node the file does not have")?;
                 mesh.quads.push([ids[0], ids[1], ids[2], ids[3]]);
                 Ok::<(), String>(())
             }
-            2 | 9 | 10 | 16 => {
+            2 | 9 => {
                 other_faces += 1;
                 Ok(())
             }
@@ -264,6 +268,14 @@ mod tests {
         assert_eq!(a.mesh.quads, b.mesh.quads);
         assert_eq!(a.mesh.nodes, b.mesh.nodes);
         assert_eq!(b.other_faces, 1);
+    }
+
+    #[test]
+    fn an_eight_node_quad_reads_as_its_corners() {
+        let quad8 = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 8 1 8\n2 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 0\n1 0.5 0\n0.5 1 0\n0 0.5 0\n$EndNodes\n$Elements\n1 1 1 1\n2 1 16 1\n1 1 2 3 4 5 6 7 8\n$EndElements\n";
+        let a = from_msh(quad8).unwrap();
+        assert_eq!(a.mesh.quads, vec![[0, 1, 2, 3]]);
+        assert_eq!(a.other_faces, 0);
     }
 
     #[test]

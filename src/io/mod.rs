@@ -1,4 +1,7 @@
-//! Files: the mesh writers and the mesh reader.
+//! Files: the mesh writers (MSH, VTK, SVG, JSON, Abaqus `.inp`), the mesh
+//! reader, and the DXF outline reader.
 
+pub mod dxf;
+mod inp;
 pub mod mesh_reader;
 pub mod output;

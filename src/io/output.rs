@@ -1,5 +1,5 @@
-//! Writers: Gmsh MSH 4.1 ASCII, legacy VTK, SVG and JSON, chosen by the
-//! file extension. Every file is written to a temporary name beside it and
+//! Writers: Gmsh MSH 4.1 ASCII, legacy VTK, SVG, JSON and Abaqus `.inp`,
+//! chosen by the file extension; second-order elements in all but SVG. Every file is written to a temporary name beside it and
 //! renamed only when all outputs of the run are written, so a failed run
 //! leaves no output.
 
@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::geometry::quad_angles;
 use crate::mesh::Mesh;
+use crate::second_order::{ElementKind, SecondOrder};
 
 /// An output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -20,13 +21,15 @@ pub enum Format {
     Svg,
     /// Nodes, quads and boundary edges as JSON.
     Json,
+    /// Abaqus / CalculiX input deck.
+    Inp,
 }
 
 /// An error writing outputs.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
     /// The extension names no known format.
-    #[error("{0}: unknown output format (use .msh, .vtk, .svg or .json)")]
+    #[error("{0}: unknown output format (use .msh, .vtk, .svg, .json or .inp)")]
     UnknownFormat(String),
     /// The file could not be written.
     #[error("{path}: cannot write: {source}")]
@@ -51,18 +54,29 @@ impl Format {
             Some("vtk") => Ok(Format::Vtk),
             Some("svg") => Ok(Format::Svg),
             Some("json") => Ok(Format::Json),
+            Some("inp") => Ok(Format::Inp),
             _ => Err(OutputError::UnknownFormat(path.display().to_string())),
         }
     }
 }
 
-/// Renders a mesh in a format.
-pub fn render(mesh: &Mesh, name: &str, format: Format) -> String {
+/// Renders a mesh in a format, with its second-order nodes if given (the
+/// picture draws the corner quads).
+pub fn render(mesh: &Mesh, second: Option<&SecondOrder>, name: &str, format: Format) -> String {
     match format {
-        Format::Msh => to_msh(mesh),
-        Format::Vtk => to_vtk(mesh, name),
+        Format::Msh => to_msh(mesh, second),
+        Format::Vtk => to_vtk(mesh, second, name),
         Format::Svg => to_svg(mesh, &[], name),
-        Format::Json => to_json(mesh, name),
+        Format::Json => to_json(mesh, second, name),
+        Format::Inp => super::inp::to_inp(mesh, second, name),
+    }
+}
+
+/// The nodes of element `q`: its corners, or its second-order row.
+fn element_nodes<'a>(mesh: &'a Mesh, second: Option<&'a SecondOrder>, q: usize) -> &'a [u32] {
+    match second {
+        Some(so) => so.element(q),
+        None => &mesh.quads[q],
     }
 }
 
@@ -115,10 +129,18 @@ fn bbox(mesh: &Mesh) -> (f64, f64, f64, f64) {
 }
 
 /// Gmsh MSH 4.1 ASCII: one surface entity (physical group "domain") with
-/// the quads (type 3), one curve entity per input loop and inner line with
-/// its boundary edges (type 1) in a physical group of its name.
-pub fn to_msh(mesh: &Mesh) -> String {
-    let mut s = String::with_capacity(64 * (mesh.nodes.len() + mesh.quads.len()));
+/// the quads (type 3; second order: 16 with 8 nodes, 10 with 9), one curve
+/// entity per input loop and inner line with its boundary edges (type 1;
+/// second order: 8, the mid-edge node last) in a physical group of its
+/// name.
+pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
+    let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
+    let (quad_type, line_type) = match second.map(|so| so.kind) {
+        None | Some(ElementKind::Quad4) => (3, 1),
+        Some(ElementKind::Quad8) => (16, 8),
+        Some(ElementKind::Quad9) => (10, 8),
+    };
+    let mut s = String::with_capacity(64 * (mesh.nodes.len() + extra.len() + mesh.quads.len()));
     let ng = mesh.groups.len();
     let (x0, y0, x1, y1) = bbox(mesh);
     s.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
@@ -132,14 +154,21 @@ pub fn to_msh(mesh: &Mesh) -> String {
         let _ = writeln!(s, "{} {x0} {y0} 0 {x1} {y1} 0 1 {} 0", i + 1, i + 1);
     }
     let _ = writeln!(s, "1 {x0} {y0} 0 {x1} {y1} 0 1 {} 0\n$EndEntities", ng + 1);
-    let n = mesh.nodes.len();
+    let n = mesh.nodes.len() + extra.len();
     let _ = writeln!(s, "$Nodes\n1 {n} 1 {n}\n2 1 0 {n}");
     for i in 0..n {
         let _ = writeln!(s, "{}", i + 1);
     }
     // the coordinates (most of the writing: the shortest exact form of
     // each float) in two halves side by side
-    let (first, second) = mesh.nodes.split_at(n / 2);
+    let all;
+    let nodes: &[glam::DVec2] = if extra.is_empty() {
+        &mesh.nodes
+    } else {
+        all = [mesh.nodes.as_slice(), extra].concat();
+        &all
+    };
+    let (first, second_half) = nodes.split_at(n / 2);
     let coordinates = |half: &[glam::DVec2]| {
         let mut t = String::with_capacity(48 * half.len());
         for p in half {
@@ -148,7 +177,7 @@ pub fn to_msh(mesh: &Mesh) -> String {
         t
     };
     let (a, b) = std::thread::scope(|scope| {
-        let b = scope.spawn(|| coordinates(second));
+        let b = scope.spawn(|| coordinates(second_half));
         let a = coordinates(first);
         (a, b.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
     });
@@ -167,48 +196,61 @@ pub fn to_msh(mesh: &Mesh) -> String {
         if edges.is_empty() {
             continue;
         }
-        let _ = writeln!(s, "1 {} 1 {}", g + 1, edges.len());
-        for (a, b) in edges {
-            let _ = writeln!(s, "{tag} {} {}", a + 1, b + 1);
+        let _ = writeln!(s, "1 {} {line_type} {}", g + 1, edges.len());
+        for &(a, b) in edges {
+            let _ = write!(s, "{tag} {} {}", a + 1, b + 1);
+            if let Some(m) = second.and_then(|so| so.middle(a, b)) {
+                let _ = write!(s, " {}", m + 1);
+            }
+            s.push('\n');
             tag += 1;
         }
     }
-    let _ = writeln!(s, "2 1 3 {}", mesh.quads.len());
-    for q in &mesh.quads {
-        let _ = writeln!(
-            s,
-            "{tag} {} {} {} {}",
-            q[0] + 1,
-            q[1] + 1,
-            q[2] + 1,
-            q[3] + 1
-        );
+    let _ = writeln!(s, "2 1 {quad_type} {}", mesh.quads.len());
+    for q in 0..mesh.quads.len() {
+        let _ = write!(s, "{tag}");
+        for n in element_nodes(mesh, second, q) {
+            let _ = write!(s, " {}", n + 1);
+        }
+        s.push('\n');
         tag += 1;
     }
     s.push_str("$EndElements\n");
     s
 }
 
-/// Legacy VTK (ASCII unstructured grid of quads, cell type 9).
-pub fn to_vtk(mesh: &Mesh, name: &str) -> String {
-    let mut s = String::with_capacity(48 * (mesh.nodes.len() + mesh.quads.len()));
+/// Legacy VTK (ASCII unstructured grid of quads, cell type 9; second
+/// order: 23 with 8 nodes, 28 with 9).
+pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
+    let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
+    let (per, cell_type) = match second.map(|so| so.kind) {
+        None | Some(ElementKind::Quad4) => (4, "9"),
+        Some(ElementKind::Quad8) => (8, "23"),
+        Some(ElementKind::Quad9) => (9, "28"),
+    };
+    let mut s = String::with_capacity(48 * (mesh.nodes.len() + extra.len() + mesh.quads.len()));
     let title: String = name.chars().filter(|c| *c != '\n').take(200).collect();
     let _ = writeln!(
         s,
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double",
-        mesh.nodes.len()
+        mesh.nodes.len() + extra.len()
     );
-    for p in &mesh.nodes {
+    for p in mesh.nodes.iter().chain(extra) {
         let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
     }
     let nq = mesh.quads.len();
-    let _ = writeln!(s, "CELLS {nq} {}", nq * 5);
-    for q in &mesh.quads {
-        let _ = writeln!(s, "4 {} {} {} {}", q[0], q[1], q[2], q[3]);
+    let _ = writeln!(s, "CELLS {nq} {}", nq * (per + 1));
+    for q in 0..nq {
+        let _ = write!(s, "{per}");
+        for n in element_nodes(mesh, second, q) {
+            let _ = write!(s, " {n}");
+        }
+        s.push('\n');
     }
     let _ = writeln!(s, "CELL_TYPES {nq}");
     for _ in 0..nq {
-        s.push_str("9\n");
+        s.push_str(cell_type);
+        s.push('\n');
     }
     s
 }
@@ -296,14 +338,23 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
     s
 }
 
-/// JSON: name, nodes, quads (0-based ids), boundary edges with groups.
-pub fn to_json(mesh: &Mesh, name: &str) -> String {
-    let v = serde_json::json!({
+/// JSON: name, nodes, quads (0-based ids), boundary edges with groups;
+/// second order: `nodes` holds the added nodes after the corners, and
+/// `elements` each element's 8 or 9 nodes (`element_type` `quad8` or
+/// `quad9`), `quads` still the corners.
+pub fn to_json(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
+    let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
+    let mut v = serde_json::json!({
         "name": name,
-        "nodes": mesh.nodes.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+        "nodes": mesh.nodes.iter().chain(extra).map(|p| [p.x, p.y]).collect::<Vec<_>>(),
         "quads": mesh.quads,
         "boundary": mesh.boundary.iter().map(|e| serde_json::json!({"nodes": [e.a, e.b], "group": mesh.groups[e.group as usize]})).collect::<Vec<_>>(),
         "groups": mesh.groups,
     });
+    if let Some(so) = second {
+        let per = so.kind.nodes();
+        v["element_type"] = format!("quad{per}").into();
+        v["elements"] = so.elements.chunks_exact(per).collect::<Vec<_>>().into();
+    }
     serde_json::to_string(&v).unwrap_or_default()
 }
