@@ -94,7 +94,8 @@ pub struct MeshArgs {
     /// Target boundary segment length (replaces the domain's size).
     #[arg(long)]
     pub size: Option<f64>,
-    /// Largest interior element edge (replaces the domain's max_size).
+    /// Largest interior element edge (replaces the domain's max_size);
+    /// checked, not used yet: every element is made at the size.
     #[arg(long)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat

@@ -92,12 +92,55 @@ fn repl(args: cli::ReplArgs) -> Result<()> {
 
 /// One warning line for the keys of a domain file the format does not know.
 fn warn_unknown_keys(domain: &Domain, path: &std::path::Path) {
-    if !domain.unknown_keys.is_empty() {
+    if !domain.unknown_keys().is_empty() {
         eprintln!(
             "warning: {}: unknown keys ignored: {}",
             path.display(),
-            domain.unknown_keys.join(", ")
+            domain.unknown_keys().join(", ")
         );
+    }
+}
+
+/// A library error in the command line's words: an option names its flag.
+fn in_cli_words(e: freemesh::Error) -> anyhow::Error {
+    use freemesh::{Error, OptionError, RunOption};
+    match e {
+        Error::Option(OptionError::NotPositive { option, value }) => {
+            let flag = match option {
+                RunOption::Size => "--size",
+                RunOption::MaxSize => "--max-size",
+            };
+            anyhow::anyhow!("{flag} must be a positive number, got {value}")
+        }
+        e => e.into(),
+    }
+}
+
+/// The run options of the environment, for a developer: FREEMESH_DEBUG_CHECK
+/// set turns on the mesher's self-check.
+fn debug_options(opts: Options) -> Options {
+    Options {
+        self_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+        ..opts
+    }
+}
+
+/// For a developer: where FREEMESH_DEBUG_SVG names a file, the state a run
+/// stopped short in is written there as a picture, and its trace beside
+/// it (`.trace`).
+fn write_debug_picture(stopped: &freemesh::StoppedShort) {
+    if let Some(path) = std::env::var_os("FREEMESH_DEBUG_SVG") {
+        let path = PathBuf::from(path);
+        let mut trace = path.clone().into_os_string();
+        trace.push(".trace");
+        let lines: Vec<String> = stopped.trace.iter().map(|t| t.to_json_line()).collect();
+        let files = [
+            (path, stopped.picture.clone()),
+            (PathBuf::from(trace), lines.join("\n")),
+        ];
+        if let Err(e) = write_all(&files) {
+            eprintln!("warning: the debug picture: {e}");
+        }
     }
 }
 
@@ -157,7 +200,7 @@ fn features(args: cli::FeaturesArgs) -> Result<()> {
     let domain = Domain::from_file(&args.domain.to_string_lossy())?;
     warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
-    let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
+    let f = freemesh::domain_features(&domain, &mut kb, args.size).map_err(in_cli_words)?;
     let mut out = std::io::stdout().lock();
     if args.json {
         writeln!(out, "{}", serde_json::to_string_pretty(&f)?)?;
@@ -342,7 +385,7 @@ fn read_and_discretise(
     args: &cli::MeshArgs,
 ) -> Result<(Domain, freemesh::RunBoundary)> {
     let domain = Domain::from_file(&path.to_string_lossy())?;
-    let boundary = freemesh::discretise_for_run(&domain, args.size)?;
+    let boundary = freemesh::discretise_for_run(&domain, args.size).map_err(in_cli_words)?;
     Ok((domain, boundary))
 }
 
@@ -363,14 +406,16 @@ fn mesh_one(
         None => (Domain::from_file(&path.to_string_lossy())?, None),
     };
     warn_unknown_keys(&domain, path);
-    let opts = Options::default()
-        .with_size(args.size)
-        .with_max_size(args.max_size)
-        .with_trace(trace_path.is_some());
+    let opts = debug_options(
+        Options::default()
+            .with_size(args.size)
+            .with_max_size(args.max_size)
+            .with_trace(trace_path.is_some()),
+    );
     // A bar for runs longer than a second: made on the first report
     // after one second, sized by the element estimate.
-    let size = args.size.unwrap_or(domain.size);
-    let estimate = (domain.outer.signed_area().abs() / (size * size)).max(1.0) as u64;
+    let size = args.size.unwrap_or(domain.size());
+    let estimate = (domain.area() / (size * size)).max(1.0) as u64;
     let mut bar: Option<indicatif::ProgressBar> = None;
     let mut progress = |quads: usize| {
         if !show_progress {
@@ -390,10 +435,13 @@ fn mesh_one(
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let result = result?;
+    let result = result.map_err(in_cli_words)?;
+    if let Some(stopped) = &result.stopped_short {
+        write_debug_picture(stopped);
+    }
     let mut files: Vec<(PathBuf, String)> = outputs
         .iter()
-        .map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f)))
+        .map(|(p, f)| (p.clone(), render(&result.mesh, domain.name(), *f)))
         .collect();
     if let Some(t) = trace_path {
         let mut text = String::new();
@@ -408,7 +456,7 @@ fn mesh_one(
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
         "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
-        domain.name,
+        domain.name(),
         result.mesh.nodes.len(),
         q.quads,
         q.min_angle,
@@ -428,7 +476,7 @@ fn mesh_one(
         let engine = k.engine_time.as_secs_f64();
         eprintln!(
             "{}: engine {:.3} s in {} queries ({} more answered from the memo), {:.2} queries and {:.1} us of engine time per element; host {:.3} s",
-            domain.name,
+            domain.name(),
             engine,
             k.engine_queries,
             k.cached_queries,
@@ -439,19 +487,21 @@ fn mesh_one(
         if k.second_engine_queries > 0 {
             eprintln!(
                 "{}: of those queries, {} answered by a second engine in parallel ({:.3} s of its time, not counted above)",
-                domain.name,
+                domain.name(),
                 k.second_engine_queries,
                 k.second_engine_time.as_secs_f64()
             );
         }
         eprintln!(
             "{}: clean-up {} edge flips, {} element collapses",
-            domain.name, result.stats.cleanup_flips, result.stats.cleanup_collapses
+            domain.name(),
+            result.stats.cleanup_flips,
+            result.stats.cleanup_collapses
         );
         let ph = &result.phases;
         eprintln!(
             "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",
-            domain.name,
+            domain.name(),
             ph.prepare,
             ph.recursion,
             ph.smoothing,
