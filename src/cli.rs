@@ -125,7 +125,8 @@ pub struct MeshArgs {
     /// 9-node quads with a centre node (false).
     #[arg(long, action = clap::ArgAction::Set)]
     pub serendipity: Option<bool>,
-    /// Largest interior element edge (replaces the domain's max_size).
+    /// Largest interior element edge (replaces the domain's max_size);
+    /// checked, not used yet: every element is made at the size.
     #[arg(long)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat

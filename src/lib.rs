@@ -8,12 +8,25 @@
 //! an action, redesign rules correct an element that would spoil the rest,
 //! final patterns close the last loops, and Laplace smoothing finishes.
 //!
+//! One call meshes a domain: [`mesh_domain`] takes a validated
+//! [`Domain`], the [`KnowledgeBase`] and the [`Options`], and gives the
+//! mesh with its report ([`MeshResult`]: the trace, the counters, the
+//! quality figures) or one typed [`Error`] saying what is wrong.
+//!
 //! ```
 //! use freemesh::{mesh_domain, Domain, KnowledgeBase, Options};
-//! let domain = Domain::from_file("examples/plugger.json").unwrap();
-//! let mut kb = KnowledgeBase::builtin().unwrap();
-//! let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
-//! assert!(result.mesh.quads.len() > 0);
+//! // a 2 x 1 rectangle with a boundary size of 0.25
+//! let domain = Domain::from_json_str(
+//!     r#"{"name": "plate", "size": 0.25,
+//!         "outer": {"points": [[0, 0], [2, 0], [2, 1], [0, 1]]}}"#,
+//! )?;
+//! let mut kb = KnowledgeBase::builtin()?;
+//! let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})?;
+//! // 8 by 4 squares of the boundary size fill it
+//! assert_eq!(result.mesh.quads.len(), 32);
+//! assert!(result.quality.min_angle > 80.0);
+//! assert!(result.stopped_short.is_none());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -42,20 +55,26 @@ mod settings;
 mod smoothing;
 mod validity;
 
-pub use features::{EdgeFeature, FrontFeatures, NodeFeature};
+// The entry point, what it takes and what it gives.
 pub use input::domain::{Domain, DomainError};
-pub use io::dxf::{read_dxf, DomainFile, Outline};
-pub use io::mesh_reader::{read_mesh, ReadError, ReadMesh};
-pub use io::output::{render, write_all, Format, OutputError};
-pub use kb::{KbError, KbStats, KnowledgeBase};
+pub use kb::{KbError, KbStats, KnowledgeBase, More, UserAnswer};
 pub use mesh::{Mesh, NodeKind};
 pub use partial_mesh::MeshStats;
 pub use pipeline::{
-    discretise_for_run, domain_features, mesh_boundary, mesh_domain, Error, MeshResult, Options,
-    Phases, RunBoundary,
+    mesh_domain, Error, MeshResult, OptionError, Options, Phases, RunOption, StoppedShort,
 };
 pub use recursion::MeshError;
-pub use repl::{Flow, Repl};
-pub use report::quality::{angle_bins, angle_histogram, measure as measure_quality, Quality};
+pub use report::quality::Quality;
 pub use report::trace::TraceStep;
 pub use second_order::{ElementKind, SecondOrder};
+
+// The binary's other commands: the boundary made ready while the engine
+// loads, the features of a domain, the writers and the mesh reader, the
+// quality figures of a mesh file, the REPL.
+pub use io::dxf::{read_dxf, DomainFile, Outline};
+pub use features::{EdgeFeature, FrontFeatures, NodeFeature};
+pub use io::mesh_reader::{read_mesh, ReadError, ReadMesh};
+pub use io::output::{render, write_all, Format, OutputError};
+pub use pipeline::{discretise_for_run, domain_features, mesh_boundary, RunBoundary};
+pub use repl::{Flow, Repl};
+pub use report::quality::{angle_bins, angle_histogram, measure as measure_quality};

@@ -90,10 +90,8 @@ fn read_domain(path: &std::path::Path, size: Option<f64>) -> Result<Domain> {
         return Ok(Domain::from_file(&path.to_string_lossy())?);
     }
     let (file, _) = dxf_domain_file(path, size, None)?;
-    let mut domain = Domain::from_json(&file.to_json_value())
+    let domain = Domain::from_json(&file.to_json_value())
         .with_context(|| format!("{}: the outline is not a valid domain", path.display()))?;
-    // the keys are the reader's own (a layer's tags among them)
-    domain.unknown_keys.clear();
     Ok(domain)
 }
 
@@ -125,12 +123,55 @@ fn convert(args: cli::ConvertArgs) -> Result<()> {
 
 /// One warning line for the keys of a domain file the format does not know.
 fn warn_unknown_keys(domain: &Domain, path: &std::path::Path) {
-    if !domain.unknown_keys.is_empty() {
+    if !domain.unknown_keys().is_empty() {
         eprintln!(
             "warning: {}: unknown keys ignored: {}",
             path.display(),
-            domain.unknown_keys.join(", ")
+            domain.unknown_keys().join(", ")
         );
+    }
+}
+
+/// A library error in the command line's words: an option names its flag.
+fn in_cli_words(e: freemesh::Error) -> anyhow::Error {
+    use freemesh::{Error, OptionError, RunOption};
+    match e {
+        Error::Option(OptionError::NotPositive { option, value }) => {
+            let flag = match option {
+                RunOption::Size => "--size",
+                RunOption::MaxSize => "--max-size",
+            };
+            anyhow::anyhow!("{flag} must be a positive number, got {value}")
+        }
+        e => e.into(),
+    }
+}
+
+/// The run options of the environment, for a developer: FREEMESH_DEBUG_CHECK
+/// set turns on the mesher's self-check.
+fn debug_options(opts: Options) -> Options {
+    Options {
+        self_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+        ..opts
+    }
+}
+
+/// For a developer: where FREEMESH_DEBUG_SVG names a file, the state a run
+/// stopped short in is written there as a picture, and its trace beside
+/// it (`.trace`).
+fn write_debug_picture(stopped: &freemesh::StoppedShort) {
+    if let Some(path) = std::env::var_os("FREEMESH_DEBUG_SVG") {
+        let path = PathBuf::from(path);
+        let mut trace = path.clone().into_os_string();
+        trace.push(".trace");
+        let lines: Vec<String> = stopped.trace.iter().map(|t| t.to_json_line()).collect();
+        let files = [
+            (path, stopped.picture.clone()),
+            (PathBuf::from(trace), lines.join("\n")),
+        ];
+        if let Err(e) = write_all(&files) {
+            eprintln!("warning: the debug picture: {e}");
+        }
     }
 }
 
@@ -190,7 +231,7 @@ fn features(args: cli::FeaturesArgs) -> Result<()> {
     let domain = read_domain(&args.domain, args.size)?;
     warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
-    let f = freemesh::domain_features(&domain, &mut kb, args.size)?;
+    let f = freemesh::domain_features(&domain, &mut kb, args.size).map_err(in_cli_words)?;
     let mut out = std::io::stdout().lock();
     if args.json {
         writeln!(out, "{}", serde_json::to_string_pretty(&f)?)?;
@@ -378,7 +419,7 @@ fn read_and_discretise(
     args: &cli::MeshArgs,
 ) -> Result<(Domain, freemesh::RunBoundary)> {
     let domain = read_domain(path, args.size)?;
-    let boundary = freemesh::discretise_for_run(&domain, args.size)?;
+    let boundary = freemesh::discretise_for_run(&domain, args.size).map_err(in_cli_words)?;
     Ok((domain, boundary))
 }
 
@@ -399,14 +440,16 @@ fn mesh_one(
         None => (read_domain(path, args.size)?, None),
     };
     warn_unknown_keys(&domain, path);
-    let opts = Options::default()
-        .with_size(args.size)
-        .with_max_size(args.max_size)
-        .with_trace(trace_path.is_some());
+    let opts = debug_options(
+        Options::default()
+            .with_size(args.size)
+            .with_max_size(args.max_size)
+            .with_trace(trace_path.is_some()),
+    );
     // A bar for runs longer than a second: made on the first report
     // after one second, sized by the element estimate.
-    let size = args.size.unwrap_or(domain.size);
-    let estimate = (domain.outer.signed_area().abs() / (size * size)).max(1.0) as u64;
+    let size = args.size.unwrap_or(domain.size());
+    let estimate = (domain.area() / (size * size)).max(1.0) as u64;
     let mut bar: Option<indicatif::ProgressBar> = None;
     let mut progress = |quads: usize| {
         if !show_progress {
@@ -426,7 +469,10 @@ fn mesh_one(
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let result = result?;
+    let result = result.map_err(in_cli_words)?;
+    if let Some(stopped) = &result.stopped_short {
+        write_debug_picture(stopped);
+    }
     let kind = ElementKind::from_order(args.order, args.serendipity.unwrap_or(true))
         .context("--order is 1 or 2")?;
     let second =
@@ -436,7 +482,7 @@ fn mesh_one(
         .map(|(p, f)| {
             (
                 p.clone(),
-                render(&result.mesh, second.as_ref(), &domain.name, *f),
+                render(&result.mesh, second.as_ref(), domain.name(), *f),
             )
         })
         .collect();
@@ -453,7 +499,7 @@ fn mesh_one(
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
         "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
-        domain.name,
+        domain.name(),
         result.mesh.nodes.len(),
         q.quads,
         q.min_angle,
@@ -473,7 +519,7 @@ fn mesh_one(
         let engine = k.engine_time.as_secs_f64();
         eprintln!(
             "{}: engine {:.3} s in {} queries ({} more answered from the memo), {:.2} queries and {:.1} us of engine time per element; host {:.3} s",
-            domain.name,
+            domain.name(),
             engine,
             k.engine_queries,
             k.cached_queries,
@@ -484,19 +530,21 @@ fn mesh_one(
         if k.second_engine_queries > 0 {
             eprintln!(
                 "{}: of those queries, {} answered by a second engine in parallel ({:.3} s of its time, not counted above)",
-                domain.name,
+                domain.name(),
                 k.second_engine_queries,
                 k.second_engine_time.as_secs_f64()
             );
         }
         eprintln!(
             "{}: clean-up {} edge flips, {} element collapses",
-            domain.name, result.stats.cleanup_flips, result.stats.cleanup_collapses
+            domain.name(),
+            result.stats.cleanup_flips,
+            result.stats.cleanup_collapses
         );
         let ph = &result.phases;
         eprintln!(
             "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",
-            domain.name,
+            domain.name(),
             ph.prepare,
             ph.recursion,
             ph.smoothing,

@@ -58,7 +58,7 @@ pub struct PartialMesh {
     pub min_edge: f64,
     /// A buffer for the front's spatial queries.
     pub scratch: Vec<Fv>,
-    /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
+    /// Check every new element against all others (`Options::self_check`;
     /// quadratic, for debugging the rules).
     pub debug_check: bool,
     /// Loops the design rules gave up on: only the fallback works on them
@@ -104,7 +104,7 @@ impl PartialMesh {
             max_elements: (estimate * 4.0) as usize + 1000,
             min_edge: shortest / 3.0,
             scratch: Vec::new(),
-            debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+            debug_check: false,
             fallback_only: Default::default(),
             edge_owner: None,
             area,

@@ -25,18 +25,30 @@ use crate::smoothing;
 /// changes run after the smoothing stage.
 const CLEANUP_ROUNDS: usize = 3;
 
-/// Options of one meshing run.
+/// Options of one meshing run; `Options::default()` is what the `mesh`
+/// command uses when no flag is given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
-    /// Replaces the domain's `size`.
+    /// Replaces the domain's `size`, the target boundary segment length
+    /// (default: the domain's own). Must be a positive number, and small
+    /// enough only that the domain's area over its square stays under
+    /// five million elements.
     pub size: Option<f64>,
-    /// Replaces the domain's `max_size`.
+    /// Replaces the domain's `max_size` (default: the domain's own).
+    /// Checked (a positive number) but not used yet: every element is
+    /// made at `size`, as the paper's uniform meshes are. Graded meshes,
+    /// growing from `size` at the boundary to `max_size` inside, are
+    /// planned; until then the value changes nothing.
     pub max_size: Option<f64>,
-    /// Sweeps of Laplace smoothing (Eq. 4).
+    /// Sweeps of Laplace smoothing (Eq. 4); default 30.
     pub smoothing_passes: usize,
     /// Whether the inference trace is kept (`MeshResult::trace`); a run
-    /// that writes no trace saves its time and memory.
+    /// that writes no trace saves its time and memory. Default true.
     pub trace: bool,
+    /// A developer's aid, default false: every element placed is checked
+    /// against the elements near it for overlaps, and the fallbacks'
+    /// passes are reported on standard error. Slow; it changes no mesh.
+    pub self_check: bool,
 }
 
 impl Default for Options {
@@ -46,6 +58,7 @@ impl Default for Options {
             max_size: None,
             smoothing_passes: 30,
             trace: true,
+            self_check: false,
         }
     }
 }
@@ -86,9 +99,55 @@ pub enum Error {
     /// The finished mesh failed its check (a defect: never written).
     #[error("the mesh failed its check before writing: {0}")]
     Check(#[from] MeshCheckError),
-    /// An option is out of range.
-    #[error("{0}")]
-    Option(String),
+    /// An option of the run cannot be used.
+    #[error(transparent)]
+    Option(#[from] OptionError),
+}
+
+/// An option of [`Options`] (or the domain's own value it replaces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunOption {
+    /// [`Options::size`].
+    Size,
+    /// [`Options::max_size`].
+    MaxSize,
+}
+
+impl std::fmt::Display for RunOption {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RunOption::Size => "size",
+            RunOption::MaxSize => "max_size",
+        })
+    }
+}
+
+/// Why an option of a run cannot be used: which option, its value, and
+/// what is wrong with it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OptionError {
+    /// Not a positive finite number.
+    #[error("{option} must be a positive number, got {value}")]
+    NotPositive {
+        /// The option.
+        option: RunOption,
+        /// Its value.
+        value: f64,
+    },
+    /// The size asks for more elements than a run may make.
+    #[error(
+        "size {size} gives about {estimate:.2e} elements over the domain's area {area:.4e}, above the limit of {limit} (give a larger size)"
+    )]
+    TooManyElements {
+        /// The boundary size asked for.
+        size: f64,
+        /// The domain's area over the size squared.
+        estimate: f64,
+        /// The domain's area.
+        area: f64,
+        /// The most elements a run may make.
+        limit: usize,
+    },
 }
 
 /// The outcome of a meshing run.
@@ -106,6 +165,21 @@ pub struct MeshResult {
     pub kb_stats: KbStats,
     /// Where the time went.
     pub phases: Phases,
+    /// Where the rules and their fallbacks stopped, when they did and the
+    /// last resort meshed the domain instead (see `MeshStats`), for a
+    /// person finding out why.
+    pub stopped_short: Option<StoppedShort>,
+}
+
+/// The state of a run where the recursion stopped short.
+#[derive(Debug, Clone)]
+pub struct StoppedShort {
+    /// Why it stopped (the stuck loop, or a runaway).
+    pub reason: String,
+    /// The elements made and the front left, as an SVG picture.
+    pub picture: String,
+    /// The inference trace up to there (empty when the run keeps none).
+    pub trace: Vec<TraceStep>,
 }
 
 /// Wall time of each phase of a run (seconds).
@@ -135,22 +209,22 @@ pub struct RunBoundary {
 pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
-        return Err(Error::Option(format!(
-            "--size must be a positive number, got {size}"
-        )));
+        return Err(OptionError::NotPositive {
+            option: RunOption::Size,
+            value: size,
+        }
+        .into());
     }
-    let area = domain.outer.signed_area().abs()
-        - domain
-            .holes
-            .iter()
-            .map(|h| h.signed_area().abs())
-            .sum::<f64>();
+    let area = domain.area();
     let estimate = area / (size * size);
     if estimate > domain::MAX_ELEMENTS as f64 {
-        return Err(Error::Option(format!(
-            "size {size} gives about {estimate:.2e} elements over the domain's area {area:.4e}, above the limit of {} (give a larger size)",
-            domain::MAX_ELEMENTS
-        )));
+        return Err(OptionError::TooManyElements {
+            size,
+            estimate,
+            area,
+            limit: domain::MAX_ELEMENTS,
+        }
+        .into());
     }
     let disc = boundary::discretise(domain, size)?;
     let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
@@ -169,7 +243,66 @@ pub fn domain_features(
     Ok(Mesher::start_from(kb, prepared).front_features()?)
 }
 
-/// Meshes a domain with the knowledge base, smooths and checks the mesh.
+/// Meshes a domain with the knowledge base: the library's entry point.
+///
+/// The boundary is discretised at the size of `opts` (the domain's own by
+/// default), the rules of `kb` mesh it from the boundary inward, one
+/// quadrilateral at a time, the fallbacks close the loops the rules leave,
+/// and the mesh is smoothed (Eq. 4), cleaned up and checked before it is
+/// returned. `progress` is called with the number of elements made after
+/// each step of the recursion.
+///
+/// The same domain, knowledge base and options give the same mesh and
+/// trace, on any machine and number of cores. A domain the rules cannot
+/// finish is meshed whole by the last resort (triangles split into three
+/// quadrilaterals) and says so in [`MeshResult::stopped_short`]; a mesh is
+/// returned only if it passed its check (every element convex and
+/// positive, the boundary followed, the area covered once).
+///
+/// # Errors
+///
+/// [`Error::Option`] for an option that cannot be used (a size that is
+/// not a positive number, or so small that the domain would need more
+/// than five million elements), [`Error::Domain`] for a boundary that
+/// cannot be discretised at that size, [`Error::Kb`] when a rule of the
+/// knowledge base fails (an exception, a runaway, an answer the host
+/// cannot read) and [`Error::Mesh`] when the recursion stops on a fault
+/// of its own; [`Error::Fallback`] and [`Error::Check`] are defects,
+/// never seen on a valid domain.
+///
+/// # Examples
+///
+/// ```
+/// use freemesh::{mesh_domain, Domain, Error, KnowledgeBase, Options, RunOption, OptionError};
+/// // an L-shaped plate: a concave corner for the rules to work round
+/// let domain = Domain::from_json_str(
+///     r#"{"size": 0.5, "outer": {"points": [[0,0],[4,0],[4,2],[2,2],[2,4],[0,4]]}}"#,
+/// ).unwrap();
+/// let mut kb = KnowledgeBase::builtin().unwrap();
+/// let mut steps = 0;
+/// let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| steps += 1).unwrap();
+/// assert!(steps > 0);
+/// // the elements cover the L's area, 12, once
+/// let area: f64 = (0..result.mesh.quads.len())
+///     .map(|q| {
+///         let p = result.mesh.quad_points(q);
+///         (0..4).map(|i| p[i].perp_dot(p[(i + 1) % 4]) / 2.0).sum::<f64>()
+///     })
+///     .sum();
+/// assert!((area - 12.0).abs() < 1e-9);
+/// assert!(result.quality.min_angle > 45.0);
+/// // the trace says which rule made each element
+/// assert!(!result.trace.is_empty());
+///
+/// // an option out of range is a typed error, naming the option
+/// let bad = Options::default().with_size(Some(-1.0));
+/// match mesh_domain(&domain, &mut kb, &bad, &mut |_| {}) {
+///     Err(Error::Option(OptionError::NotPositive { option, value })) => {
+///         assert_eq!((option, value), (RunOption::Size, -1.0));
+///     }
+///     other => panic!("expected an option error, got {other:?}"),
+/// }
+/// ```
 pub fn mesh_domain(
     domain: &Domain,
     kb: &mut KnowledgeBase,
@@ -183,9 +316,11 @@ pub fn mesh_domain(
 
 fn check_options(opts: &Options) -> Result<(), Error> {
     match opts.max_size {
-        Some(m) if !(m.is_finite() && m > 0.0) => Err(Error::Option(format!(
-            "--max-size must be a positive number, got {m}"
-        ))),
+        Some(m) if !(m.is_finite() && m > 0.0) => Err(OptionError::NotPositive {
+            option: RunOption::MaxSize,
+            value: m,
+        }
+        .into()),
         _ => Ok(()),
     }
 }
@@ -267,6 +402,7 @@ impl<'k> Run<'k> {
     pub fn start(kb: &'k mut KnowledgeBase, p: PreparedRun) -> Run<'k> {
         let mut mesher = Mesher::start_from(kb, p.prepared);
         mesher.set_record_trace(p.opts.trace);
+        mesher.set_self_check(p.opts.self_check);
         let prepare = p.t0.elapsed().as_secs_f64();
         Run {
             mesher,
@@ -363,24 +499,16 @@ impl<'k> Run<'k> {
     /// The whole domain meshed by triangles split into quads, the trace
     /// one step saying why.
     fn last_resort(&mut self, reason: String) -> Result<MeshResult, Error> {
-        // A debugging aid: the state where meshing stopped, as a picture.
-        if let Ok(path) = std::env::var("FREEMESH_DEBUG_SVG") {
-            let _ = std::fs::write(
-                &path,
-                crate::io::output::to_svg(
-                    self.mesher.mesh(),
-                    &self.mesher.front_node_loops(),
-                    "stopped",
-                ),
-            );
-            let lines: Vec<String> = self
-                .mesher
-                .trace()
-                .iter()
-                .map(|t| t.to_json_line())
-                .collect();
-            let _ = std::fs::write(format!("{path}.trace"), lines.join("\n"));
-        }
+        // the state where meshing stopped, kept for whoever asks why
+        let stopped_short = StoppedShort {
+            picture: crate::io::output::to_svg(
+                self.mesher.mesh(),
+                &self.mesher.front_node_loops(),
+                "stopped",
+            ),
+            trace: self.mesher.trace().to_vec(),
+            reason: reason.clone(),
+        };
         let mesh = mesh_by_triangles(&self.domain, &self.boundary, self.size)?;
         let mut stats = self.mesher.stats();
         stats.triangle_fallbacks += 1;
@@ -408,6 +536,7 @@ impl<'k> Run<'k> {
         )?;
         r.phases.prepare = self.prepare;
         r.phases.recursion = recursion;
+        r.stopped_short = Some(stopped_short);
         Ok(r)
     }
 }
@@ -505,5 +634,6 @@ fn finish_mesh(
         quality,
         kb_stats,
         phases,
+        stopped_short: None,
     })
 }

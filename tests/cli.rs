@@ -647,3 +647,47 @@ fn quality_of_a_file_that_is_no_mesh_is_one_error_line() {
     );
     assert_eq!(err.trim().lines().count(), 1, "{err}");
 }
+
+#[test]
+fn an_option_out_of_range_names_its_flag() {
+    for (flag, value) in [("--size", "-1"), ("--max-size", "0")] {
+        let out = tmp("bad-option.msh");
+        let o = freemesh(&[
+            "mesh",
+            "tests/inputs/square.json",
+            &format!("{flag}={value}"),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = stderr(&o);
+        assert_eq!(
+            err.trim(),
+            format!("error: {flag} must be a positive number, got {value}")
+        );
+        assert!(!out.exists(), "no output for a refused option");
+    }
+}
+
+#[test]
+fn the_binary_draws_where_the_rules_stopped_when_a_developer_asks() {
+    let out = tmp("slot.msh");
+    let svg = tmp("slot-stopped.svg");
+    let trace = tmp("slot.jsonl");
+    let o = Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .args(["mesh", "tests/stuck/slot.json", "-o", out.to_str().unwrap()])
+        .args(["--trace", trace.to_str().unwrap()])
+        .env("FREEMESH_DEBUG_SVG", &svg)
+        .output()
+        .expect("the binary runs");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let picture = std::fs::read_to_string(&svg).unwrap();
+    assert!(picture.starts_with("<svg"), "{}", &picture[..40]);
+    // the rules' trace up to where they stopped (the run's own trace is
+    // the last resort's one step)
+    let steps = std::fs::read_to_string(svg.with_extension("svg.trace")).unwrap();
+    assert!(steps.lines().count() > 1, "{steps}");
+    assert!(steps.lines().all(|l| l.starts_with('{')), "{steps}");
+    let run = std::fs::read_to_string(&trace).unwrap();
+    assert_eq!(run.lines().count(), 1, "{run}");
+}

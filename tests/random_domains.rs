@@ -356,7 +356,7 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
         }
         match result {
             Ok(r) => {
-                let loops = 1 + domain.holes.len() as u32;
+                let loops = 1 + domain.hole_count() as u32;
                 let area = boundary_area(&r.mesh, loops);
                 let fault = mesh_fault(&r.mesh.nodes, &r.mesh.quads, area).or_else(|| {
                     boundary_not_followed(&r.mesh, loops)

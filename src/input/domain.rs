@@ -219,24 +219,36 @@ impl Chain {
     }
 }
 
-/// A validated domain.
+/// A validated domain: the only ways to make one are the constructors,
+/// [`Domain::from_file`], [`Domain::from_json_str`] and
+/// [`Domain::from_json`], which check it as the domain format says (keys
+/// and values, loops of at least three points, nothing crossing, holes and
+/// lines inside), so every `Domain` the mesher sees has passed them. The
+/// fixed segment counts' parity is checked where the boundary is
+/// discretised, at the run's size. Its parts are read through accessors.
+///
+/// ```compile_fail
+/// // a hand-built domain does not compile: the fields are private
+/// let d = freemesh::Domain { name: "x".into(), size: 1.0, max_size: None,
+///     outer: todo!(), holes: vec![], lines: vec![], unknown_keys: vec![] };
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Domain {
     /// Free text name.
-    pub name: String,
+    pub(crate) name: String,
     /// Target boundary segment length.
-    pub size: f64,
+    pub(crate) size: f64,
     /// Largest interior element edge, if bounded.
-    pub max_size: Option<f64>,
+    pub(crate) max_size: Option<f64>,
     /// The outer loop.
-    pub outer: Chain,
+    pub(crate) outer: Chain,
     /// Holes.
-    pub holes: Vec<Chain>,
+    pub(crate) holes: Vec<Chain>,
     /// Inner lines (open).
-    pub lines: Vec<Chain>,
+    pub(crate) lines: Vec<Chain>,
     /// Keys the format does not know, each with where it is: ignored, and
     /// worth a warning (a misspelt `holes` would silently drop the holes).
-    pub unknown_keys: Vec<String>,
+    pub(crate) unknown_keys: Vec<String>,
 }
 
 /// The keys of each object of the format (domain-format.md).
@@ -491,6 +503,26 @@ impl Domain {
         Domain::from_json(&v)
     }
 
+    /// Reads and validates a domain from the text of a domain file (the
+    /// JSON format of `domain-format.md`).
+    ///
+    /// ```
+    /// let d = freemesh::Domain::from_json_str(
+    ///     r#"{"size": 0.5, "outer": {"points": [[0,0],[2,0],[2,1],[0,1]]}}"#,
+    /// ).unwrap();
+    /// assert_eq!(d.size(), 0.5);
+    /// assert_eq!(d.area(), 2.0);
+    /// // a domain that fails a check is an error, never a Domain
+    /// assert!(freemesh::Domain::from_json_str(r#"{"size": -1}"#).is_err());
+    /// ```
+    pub fn from_json_str(text: &str) -> Result<Domain, DomainError> {
+        let v: Value = serde_json::from_str(text).map_err(|e| DomainError::Json {
+            path: "(text)".to_string(),
+            message: e.to_string(),
+        })?;
+        Domain::from_json(&v)
+    }
+
     /// Builds and validates a domain from parsed JSON.
     pub fn from_json(v: &Value) -> Result<Domain, DomainError> {
         let obj = v
@@ -544,6 +576,43 @@ impl Domain {
         };
         d.check_geometry()?;
         Ok(d)
+    }
+
+    /// Its name (`"domain"` when the file gives none).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The target boundary segment length.
+    pub fn size(&self) -> f64 {
+        self.size
+    }
+
+    /// The largest interior element edge, if the file bounds it.
+    pub fn max_size(&self) -> Option<f64> {
+        self.max_size
+    }
+
+    /// The number of holes.
+    pub fn hole_count(&self) -> usize {
+        self.holes.len()
+    }
+
+    /// The area meshed: inside the outer loop, outside the holes (arcs
+    /// exactly, not their chords).
+    pub fn area(&self) -> f64 {
+        self.outer.signed_area().abs()
+            - self
+                .holes
+                .iter()
+                .map(|h| h.signed_area().abs())
+                .sum::<f64>()
+    }
+
+    /// Keys of the file the format does not know, each with where it is
+    /// (`holes[0]: segmnets`): ignored, and worth a warning.
+    pub fn unknown_keys(&self) -> &[String] {
+        &self.unknown_keys
     }
 
     /// All chains: outer first, then holes, then lines.

@@ -63,10 +63,10 @@ pub enum UserAnswer {
 pub struct KnowledgeBase {
     machine: Machine,
     /// The files loaded, in order, for messages and the REPL.
-    pub files: Vec<String>,
+    pub(crate) files: Vec<String>,
     cache: HashMap<String, Option<Term>>,
     /// Queries sent to the engine (cache misses) and answered from the cache.
-    pub stats: KbStats,
+    pub(crate) stats: KbStats,
     second: Option<SecondEngine>,
 }
 
@@ -139,6 +139,18 @@ impl KnowledgeBase {
         }
         kb.run(terms::ONLY_BUILT_IN_RULES)?;
         Ok(kb)
+    }
+
+    /// The files loaded, in order: the built-in `kb/*.pl`, then the
+    /// user's.
+    pub fn files(&self) -> &[String] {
+        &self.files
+    }
+
+    /// The engine's use since it was built (a run's own share is in
+    /// `MeshResult::kb_stats`).
+    pub fn stats(&self) -> KbStats {
+        self.stats
     }
 
     /// Runs a query the host wrote (well-formed by construction) and

@@ -138,6 +138,12 @@ impl<'k> Mesher<'k> {
         self.pm.record_trace = on;
     }
 
+    /// Checks every element placed for overlaps, and reports the
+    /// fallbacks' passes on standard error (`Options::self_check`).
+    pub fn set_self_check(&mut self, on: bool) {
+        self.pm.debug_check = on;
+    }
+
     /// Ends a run whose recursion is done: frees what only the recursion
     /// needs and hands over the mesh, the trace, the counters and the
     /// domain's area. The run is left empty.

@@ -1,0 +1,189 @@
+//! The library's public face: what a caller can give it, and what it
+//! gives back, without a panic: text that does not parse, options out of
+//! range, a domain that is not one, a run the rules cannot finish.
+
+use freemesh::{More, 
+    mesh_domain, Domain, DomainError, Error, KnowledgeBase, OptionError, Options, RunOption,
+    UserAnswer,
+};
+
+/// Every answer of a query a user typed, the way the REPL asks for them.
+fn answers(kb: &mut KnowledgeBase, text: &str) -> Vec<UserAnswer> {
+    let mut all = Vec::new();
+    kb.user_query(text, 1_000_000, &mut |a| {
+        all.push(a);
+        true
+    });
+    all
+}
+
+#[test]
+fn a_query_that_does_not_parse_is_one_error_answer_never_a_panic() {
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    for text in [
+        "foo(",
+        "X = ",
+        ")",
+        "X = [1, 2",
+        "'unterminated",
+        "\"unterminated",
+        "a :- b :- c",
+        "X = f(,)",
+        "X is 1 +",
+        "X = \u{1F600}(",
+        "(((((((((((",
+        ". . .",
+    ] {
+        let got = answers(&mut kb, text);
+        assert!(
+            matches!(got.as_slice(), [UserAnswer::Error(_)]),
+            "{text:?} gave {got:?}"
+        );
+    }
+    // the engine is still whole after them
+    assert_eq!(
+        answers(&mut kb, "X = 7"),
+        vec![UserAnswer::Bindings(vec![("X".into(), "7".into())], More::No)]
+    );
+}
+
+#[test]
+fn an_exception_or_a_runaway_in_a_users_query_is_an_error_answer() {
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let thrown = answers(&mut kb, "throw(oops)");
+    assert!(
+        matches!(thrown.as_slice(), [UserAnswer::Error(_)]),
+        "{thrown:?}"
+    );
+    let looping = answers(&mut kb, "length(L, N), N < 0");
+    match looping.as_slice() {
+        [UserAnswer::Error(e)] => assert!(e.contains("inference limit"), "{e}"),
+        other => panic!("a runaway gave {other:?}"),
+    }
+}
+
+#[test]
+fn a_domain_is_made_only_validated() {
+    // too few points, a crossing, no size, text that is not JSON: errors
+    let cases = [
+        r#"{"size": 1, "outer": {"points": [[0,0],[1,0]]}}"#,
+        r#"{"size": 1, "outer": {"points": [[0,0],[2,2],[2,0],[0,2]]}}"#,
+        r#"{"size": 1, "outer": "#,
+        r#"{"outer": {"points": [[0,0],[1,0],[1,1],[0,1]]}}"#,
+    ];
+    for text in cases {
+        assert!(Domain::from_json_str(text).is_err(), "{text} was accepted");
+    }
+    assert!(matches!(
+        Domain::from_json_str(r#"{"size": 1, "outer": "#),
+        Err(DomainError::Json { .. })
+    ));
+    // an odd fixed segment total is found where the boundary is
+    // discretised: an error of the run, not a panic
+    let odd = Domain::from_json_str(
+        r#"{"size": 1, "outer": {"points": [[0,0],[1,0],[1,1]], "segments": [1,1,1]}}"#,
+    )
+    .unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let run = mesh_domain(&odd, &mut kb, &Options::default(), &mut |_| {});
+    assert!(matches!(run, Err(Error::Domain(_))), "{run:?}");
+
+    let d = Domain::from_json_str(
+        r#"{"name": "ring", "size": 0.5, "max_size": 2, "frobs": 1,
+            "outer": {"circle": {"center": [0, 0], "radius": 2}},
+            "holes": [{"circle": {"center": [0, 0], "radius": 1}}]}"#,
+    )
+    .unwrap();
+    assert_eq!(d.name(), "ring");
+    assert_eq!(d.size(), 0.5);
+    assert_eq!(d.max_size(), Some(2.0));
+    assert_eq!(d.hole_count(), 1);
+    assert!(
+        (d.area() - 3.0 * std::f64::consts::PI).abs() < 1e-9,
+        "{}",
+        d.area()
+    );
+    assert_eq!(d.unknown_keys().len(), 1, "{:?}", d.unknown_keys());
+}
+
+#[test]
+fn an_option_out_of_range_is_a_typed_error_naming_the_option() {
+    let domain = Domain::from_file("tests/inputs/square.json").unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let mut run = |opts: Options| mesh_domain(&domain, &mut kb, &opts, &mut |_| {});
+    match run(Options::default().with_max_size(Some(f64::NAN))) {
+        Err(Error::Option(OptionError::NotPositive { option, value })) => {
+            assert_eq!(option, RunOption::MaxSize);
+            assert!(value.is_nan());
+        }
+        other => panic!("max_size NaN gave {other:?}"),
+    }
+    match run(Options::default().with_size(Some(0.0))) {
+        Err(Error::Option(OptionError::NotPositive { option, value })) => {
+            assert_eq!((option, value), (RunOption::Size, 0.0));
+        }
+        other => panic!("size 0 gave {other:?}"),
+    }
+    match run(Options::default().with_size(Some(1e-9))) {
+        Err(Error::Option(OptionError::TooManyElements { size, limit, .. })) => {
+            assert_eq!((size, limit), (1e-9, 5_000_000));
+        }
+        other => panic!("size 1e-9 gave {other:?}"),
+    }
+    // the library's words name the option, not a command-line flag
+    let e = run(Options::default().with_size(Some(-2.0))).unwrap_err();
+    assert_eq!(e.to_string(), "size must be a positive number, got -2");
+}
+
+#[test]
+fn a_run_the_rules_cannot_finish_hands_back_where_it_stopped() {
+    let domain = Domain::from_file("tests/stuck/slot.json").unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    assert_eq!(result.stats.triangle_fallbacks, 1);
+    let stopped = result
+        .stopped_short
+        .expect("the state where the rules stopped");
+    assert!(!stopped.reason.is_empty());
+    assert!(
+        stopped.picture.starts_with("<svg"),
+        "{}",
+        &stopped.picture[..40]
+    );
+    assert!(!stopped.trace.is_empty());
+    // the mesh handed back is the last resort's, its trace one step
+    assert_eq!(result.trace.len(), 1);
+}
+
+#[test]
+fn the_self_check_changes_no_mesh() {
+    let domain = Domain::from_file("tests/inputs/plate-hole.json").unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let plain = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let opts = Options {
+        self_check: true,
+        ..Options::default()
+    };
+    let checked = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).unwrap();
+    assert_eq!(plain.mesh.nodes, checked.mesh.nodes);
+    assert_eq!(plain.mesh.quads, checked.mesh.quads);
+    assert!(plain.stopped_short.is_none());
+}
+
+#[test]
+fn the_knowledge_base_lists_its_files_and_counts_its_queries() {
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    assert_eq!(
+        kb.files().first().map(String::as_str),
+        Some("kb/strategy.pl")
+    );
+    let before = kb.stats().engine_queries;
+    let domain = Domain::from_file("tests/inputs/square.json").unwrap();
+    let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    assert!(kb.stats().engine_queries > before);
+    assert_eq!(
+        r.kb_stats.engine_queries,
+        kb.stats().engine_queries - before
+    );
+}
