@@ -21,6 +21,7 @@
 pub mod boundary;
 pub mod check;
 pub mod cleanup;
+pub mod cracks;
 pub mod design;
 pub mod domain;
 pub mod front;
@@ -31,6 +32,7 @@ pub mod mesh_reader;
 pub mod mesher;
 pub mod output;
 pub mod quality;
+pub mod regions;
 pub mod repl;
 pub mod second_engine;
 pub mod smoothing;
@@ -279,7 +281,8 @@ pub fn mesh_boundary(
             }
             let size = opts.size.unwrap_or(domain.size);
             let disc = boundary::discretise(domain, size)?;
-            let mesh = triangle_fallback::mesh_by_triangles(domain, &disc, size)?;
+            let mut mesh = triangle_fallback::mesh_by_triangles(domain, &disc, size)?;
+            mesh.crack_lines = disc.mesh.crack_lines.clone();
             let mut stats = m.stats;
             stats.triangle_fallbacks += 1;
             let reason = e.to_string();
@@ -383,6 +386,9 @@ fn finish_mesh(
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace);
     }
+    // the finished mesh cut open along its cracks, its regions found
+    cracks::open_cracks(&mut mesh);
+    mesh.regions = regions::find_regions(&mesh);
     let smoothing = t0.elapsed().as_secs_f64();
     // both only read the mesh: side by side
     let (checked, quality) = std::thread::scope(|scope| {

@@ -317,9 +317,13 @@ impl<'k> Mesher<'k> {
             area,
             set,
         } = prepared;
-        let mut front = Front::new(&disc.front_loop, size);
+        let mut front = Front::new(&disc.front_loops[0], size);
+        for more in &disc.front_loops[1..] {
+            front.add_loop(more, &[]);
+        }
         front.index_all(&disc.mesh.nodes);
-        let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
+        let boundary_len: usize = disc.front_loops.iter().map(Vec::len).sum();
+        let estimate = (area / (size * size)).max(1.0) + boundary_len as f64;
         let shortest = disc
             .mesh
             .boundary
@@ -2315,7 +2319,7 @@ mod tests {
         }
         let disc = Discretised {
             mesh,
-            front_loop,
+            front_loops: vec![front_loop],
             cuts: vec![],
         };
         Mesher::new(kb, disc, size, area).unwrap()
