@@ -97,6 +97,8 @@ pub struct Discretised {
     pub front_loops: Vec<Vec<u32>>,
     /// The cutting lines made, as node paths (for the trace and pictures).
     pub cuts: Vec<Vec<u32>>,
+    /// Whether a line ends on a loop or on another line (format 1.1).
+    pub lines_meet: bool,
 }
 
 /// One component to join: the closed rings and open paths of node ids of
@@ -338,6 +340,7 @@ fn discretise_with(
         chains.push((nodes, closed));
     }
     let comps = components(&chains);
+    let lines_meet = comps.iter().any(|c| !c.junctions.is_empty());
     let cuts = join_components(&mut mesh, &comps, size)?;
     let (front_loops, faces) = trace_faces(&mesh, 1 + domain.holes.len() as u32, &cuts);
     Ok((
@@ -345,6 +348,7 @@ fn discretise_with(
             mesh,
             front_loops,
             cuts,
+            lines_meet,
         },
         faces,
         sources,

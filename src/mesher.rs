@@ -261,6 +261,13 @@ pub struct Mesher<'k> {
     /// segment, so elements cannot shrink without end.
     min_edge: f64,
     scratch: Vec<Fv>,
+    /// Whether a loop that a merge or a take-back leaves must enclose an
+    /// area (a region on its left): with lines that end on a loop, a loop
+    /// can pass a hole's ring and a merge part that ring off on its own,
+    /// which no rule or fallback closes. Only for such domains, so that the
+    /// others mesh as they did (on four public domains the guard changes
+    /// the mesh, for better and worse).
+    guard_loop_areas: bool,
     /// Check every new element against all others (FREEMESH_DEBUG_CHECK;
     /// quadratic, for debugging the rules).
     debug_check: bool,
@@ -317,6 +324,7 @@ impl<'k> Mesher<'k> {
             area,
             set,
         } = prepared;
+        let guard_loop_areas = disc.lines_meet;
         let mut front = Front::new(&disc.front_loops[0], size);
         for more in &disc.front_loops[1..] {
             front.add_loop(more, &[]);
@@ -362,6 +370,7 @@ impl<'k> Mesher<'k> {
             min_edge: shortest / 3.0,
             scratch: Vec::new(),
             debug_check: std::env::var_os("FREEMESH_DEBUG_CHECK").is_some(),
+            guard_loop_areas,
             fallback_passes: 0,
             fallback_only: Default::default(),
             started: false,
@@ -1421,6 +1430,7 @@ impl<'k> Mesher<'k> {
         let made = self.front.replace_path(a, b, &mid, layer);
         // split at merged corners
         let mut ok = true;
+        let mut parted = false;
         for q in el.iter().skip(2) {
             let QNode::Merged(target) = *q else { continue };
             let node = self.front.node(target);
@@ -1433,6 +1443,16 @@ impl<'k> Mesher<'k> {
                 break;
             }
             self.front.split_pinch(occ, target);
+            parted = true;
+        }
+        // a merge parts the loop into two regions side by side, never a
+        // hole's ring on its own (a loop round no area); see
+        // `guard_loop_areas`
+        if ok && parted && self.guard_loop_areas {
+            ok = self
+                .touched_loops()
+                .iter()
+                .all(|&l| self.loop_area(l) > 0.0);
         }
         if ok {
             for l in self.touched_loops() {
@@ -1490,6 +1510,17 @@ impl<'k> Mesher<'k> {
         let mut all = touched;
         all.extend(self.front.take_touched());
         self.refresh(&all)
+    }
+
+    /// The signed area a loop encloses (positive: a region on its left).
+    fn loop_area(&self, l: u32) -> f64 {
+        let pts: Vec<DVec2> = self
+            .front
+            .loop_fvs(l)
+            .iter()
+            .map(|&f| self.mesh.nodes[self.front.node(f) as usize])
+            .collect();
+        polygon_area(&pts)
     }
 
     fn touched_loops(&self) -> Vec<u32> {
@@ -1959,12 +1990,10 @@ impl<'k> Mesher<'k> {
                     }
                 }
             }
-            if self
-                .front
-                .touched_loops()
-                .iter()
-                .any(|&t| self.front.loop_len(t) % 2 == 1)
-            {
+            if self.front.touched_loops().iter().any(|&t| {
+                self.front.loop_len(t) % 2 == 1
+                    || (self.guard_loop_areas && self.loop_area(t) <= 0.0)
+            }) {
                 self.front.rollback();
                 continue;
             }
@@ -2321,6 +2350,7 @@ mod tests {
             mesh,
             front_loops: vec![front_loop],
             cuts: vec![],
+            lines_meet: false,
         };
         Mesher::new(kb, disc, size, area).unwrap()
     }
