@@ -118,6 +118,9 @@ impl Curve {
     /// The point at parameter `t` in [0, 1] (uniform in arc length).
     pub fn point_at(&self, t: f64) -> DVec2 {
         match *self {
+            // the end itself, not a + (b - a) * 1 (which may be off by an
+            // ulp): a line that ends where another begins meets it exactly
+            Curve::Line { b, .. } if t >= 1.0 => b,
             Curve::Line { a, b } => a + (b - a) * t,
             Curve::Arc { a, b, bulge } => {
                 if t <= 0.0 {
@@ -747,9 +750,10 @@ impl Domain {
     }
 
     /// How near a line's end must come to a loop or another line to end
-    /// on it: a billionth of the model's scale.
+    /// on it: a millionth of the model's scale (coordinates written with
+    /// six decimals end on a slanted edge).
     pub fn tolerance(&self) -> f64 {
-        1e-9 * self.scale()
+        1e-6 * self.scale()
     }
 
     /// The end points of the lines that end on a loop or another line
@@ -789,7 +793,8 @@ impl Domain {
 
     /// Makes every line end that lies on a loop or on another line (within
     /// `tolerance`) a vertex of it: snapped to a vertex it is that near, or
-    /// else the edge it lands on is split there.
+    /// else the edge it lands on is split there (the line stays as it is
+    /// written, the edge bends by at most the tolerance).
     fn attach_line_ends(&mut self) -> Result<(), DomainError> {
         if self.lines.is_empty() {
             return Ok(());

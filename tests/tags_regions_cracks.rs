@@ -400,3 +400,27 @@ fn a_line_ending_on_a_loop_vertex_or_edge_is_accepted_as_a_corner_of_both() {
     j.sort_by(|a, b| a.x.total_cmp(&b.x));
     assert_eq!(j, [DVec2::new(2.0, 0.0), DVec2::new(4.0, 4.0)]);
 }
+
+#[test]
+fn a_line_end_written_with_six_decimals_ends_on_the_edge_it_is_that_near() {
+    // a T-junction and an end on a wall, each within 1e-6 of the scale
+    let v: serde_json::Value = serde_json::from_str(
+        r#"{"size": 0.181, "outer": {"points": [[0, 0], [5.12861015435538, 0], [5.12861015435538, 3.876251833281688], [0, 3.876251833281688]]},
+            "lines": [{"points": [[1.799548, 0.0], [5.12861, 1.573744]]}, {"points": [[3.464079, 0.786872], [0.0, 1.889927]]}]}"#,
+    )
+    .unwrap();
+    let d = Domain::from_json(&v).unwrap();
+    assert_eq!(d.junctions().len(), 4);
+    // the right wall gets a corner at the line's end, as written
+    let end = DVec2::new(5.12861, 1.573744);
+    let on_wall = d.outer.edges.iter().any(|e| match e.curve {
+        freemesh::domain::Curve::Line { a, .. } => a == end,
+        _ => false,
+    });
+    assert!(on_wall);
+    // the second line starts on the first, which is split there
+    assert_eq!(d.lines[0].edges.len(), 2);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_domain(&d, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    assert_eq!(r.mesh.region_count(), 3);
+}
