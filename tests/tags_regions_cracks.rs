@@ -424,3 +424,84 @@ fn a_line_end_written_with_six_decimals_ends_on_the_edge_it_is_that_near() {
     let r = mesh_domain(&d, &mut kb, &Options::default(), &mut |_| {}).unwrap();
     assert_eq!(r.mesh.region_count(), 3);
 }
+
+/// A seeded generator (xorshift) for the random partitions below.
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unit()
+    }
+}
+
+#[test]
+fn random_partitions_cracks_and_t_junctions_mesh_into_their_regions() {
+    for seed in 1..=12u64 {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x2545_f491_4f6c_dd1d));
+        let (w, h) = (rng.range(3.0, 6.0), rng.range(2.0, 4.0));
+        let corners = [[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]];
+        // a point inside edge k of the rectangle, written with six decimals
+        let mut on = |k: usize| {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            let t = rng.range(0.25, 0.75);
+            let r = |x: f64| (x * 1e6).round() / 1e6;
+            [r(a[0] + (b[0] - a[0]) * t), r(a[1] + (b[1] - a[1]) * t)]
+        };
+        let (p, q) = (on(0), on(2));
+        let kind = seed % 4;
+        let (lines, regions) = match kind {
+            // bottom to top: two regions
+            0 => (serde_json::json!([{"points": [p, q]}]), 2),
+            // a crack from the bottom edge to the middle: one region
+            1 => (
+                serde_json::json!([{"points": [p, [w / 2.0, h / 2.0]], "crack": true}]),
+                1,
+            ),
+            // a T: bottom to top, and from its middle to the right edge
+            2 => {
+                let m = [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0];
+                (
+                    serde_json::json!([{"points": [p, q]}, {"points": [m, on(1)]}]),
+                    3,
+                )
+            }
+            // two lines meeting inside, bottom to top
+            _ => {
+                let c = [w * rng.range(0.35, 0.65), h * rng.range(0.35, 0.65)];
+                (
+                    serde_json::json!([{"points": [p, c]}, {"points": [c, q]}]),
+                    2,
+                )
+            }
+        };
+        let v = serde_json::json!({"size": rng.range(0.15, 0.3), "outer": {"points": corners}, "lines": lines});
+        let domain = Domain::from_json(&v).unwrap_or_else(|e| panic!("seed {seed}: {e}\n{v}"));
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}\n{v}"));
+        let m = &r.mesh;
+        assert_eq!(m.region_count(), regions, "seed {seed}: {v}");
+        // (an edge a rounded end lands on bends by up to a millionth)
+        let total: f64 = region_areas(m).iter().sum();
+        assert!((total - w * h).abs() < 1e-6 * w * h, "seed {seed}: {total}");
+        // every line segment is an element edge (a crack's, twice)
+        let mut edges = std::collections::HashSet::new();
+        for q in &m.quads {
+            for k in 0..4 {
+                edges.insert((q[k].min(q[(k + 1) % 4]), q[k].max(q[(k + 1) % 4])));
+            }
+        }
+        assert!(
+            m.boundary
+                .iter()
+                .all(|e| edges.contains(&(e.a.min(e.b), e.a.max(e.b)))),
+            "seed {seed}"
+        );
+    }
+}
