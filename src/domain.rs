@@ -547,7 +547,8 @@ fn chain_vertices(c: &Chain) -> Vec<DVec2> {
         })
         .collect();
     if let Some(Curve::Line { b, .. } | Curve::Arc { b, .. }) = c.edges.last().map(|e| e.curve) {
-        if (out.first() != Some(&b)) || c.edges.len() == 1 {
+        // a loop's last edge ends where its first starts
+        if out.first() != Some(&b) {
             out.push(b);
         }
     }
