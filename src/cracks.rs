@@ -75,7 +75,7 @@ pub fn open_cracks(mesh: &mut Mesh) -> usize {
         }
         // the fan of the first element keeps the node, each other a copy
         let mut node_of_root: FxHashMap<usize, u32> = FxHashMap::default();
-        for i in 0..elements.len() {
+        for (i, &qi) in elements.iter().enumerate() {
             let r = root(&mut fan, i);
             let id = match node_of_root.get(&r) {
                 Some(&id) => id,
@@ -89,7 +89,7 @@ pub fn open_cracks(mesh: &mut Mesh) -> usize {
                     id
                 }
             };
-            copy_in.insert((n, elements[i]), id);
+            copy_in.insert((n, qi), id);
         }
     }
     let added = mesh.nodes.len() - before;
