@@ -393,6 +393,7 @@ mod tests {
                 a: k,
                 b: (k + 1) % 6,
                 group: 0,
+                tag: None,
             });
         }
         m
@@ -435,6 +436,7 @@ mod tests {
             a: 0,
             b: 3,
             group: 1,
+            tag: None,
         });
         let (stats, _) = clean_up(&mut m, None);
         assert_eq!(stats.flips, 0);

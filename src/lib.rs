@@ -33,6 +33,7 @@
 
 // Data flows down this list: a module uses only those above it.
 mod cleanup;
+mod cracks;
 mod element_quality;
 mod fallback;
 mod features;
@@ -48,6 +49,7 @@ mod partial_mesh;
 mod pipeline;
 mod recursion;
 mod redesign;
+mod regions;
 mod repl;
 mod report;
 mod second_order;

@@ -20,8 +20,21 @@ pub struct BoundaryEdge {
     pub a: u32,
     /// Second node.
     pub b: u32,
-    /// Index into `Mesh::groups`.
+    /// The input loop or line it lies on, as an index into `Mesh::groups`
+    /// (the first groups are the chains': `outer`, `hole 1`, ..., `line
+    /// 1`, ..., in the order of `Domain::chains`).
     pub group: u32,
+    /// The named group the edge is written in instead of its chain's: its
+    /// tag's, or a crack face's (an index into `Mesh::groups`).
+    pub tag: Option<u32>,
+}
+
+impl BoundaryEdge {
+    /// The group the edge is written in: its tag's if it has one, else
+    /// its loop's or line's.
+    pub fn output_group(&self) -> u32 {
+        self.tag.unwrap_or(self.group)
+    }
 }
 
 /// An all-quadrilateral mesh (under construction or finished).
@@ -35,8 +48,17 @@ pub struct Mesh {
     pub quads: Vec<[u32; 4]>,
     /// Edges of the input loops and inner lines.
     pub boundary: Vec<BoundaryEdge>,
-    /// Names of the physical groups: `outer`, `hole 1`, `line 1`, ...
+    /// Names of the physical groups of boundary edges: `outer`, `hole 1`,
+    /// `line 1`, ..., then the tags and crack faces (`crack 1 +`, ...).
     pub groups: Vec<String>,
+    /// The region of each quad (0-based; `region 1` in the outputs): the
+    /// parts of the domain the loops and lines enclose, found by a flood
+    /// fill across element edges that are on no line. Empty until the
+    /// mesh is finished.
+    pub regions: Vec<u32>,
+    /// The groups of the lines that are cracks (`"crack": true`): the
+    /// mesh is cut open along them when it is finished.
+    pub crack_lines: Vec<u32>,
 }
 
 impl Mesh {
@@ -85,6 +107,31 @@ impl Mesh {
             e.b = map[e.b as usize].expect("kept");
         }
         map
+    }
+
+    /// The boundary edges of each group, in the order of `groups`.
+    pub fn group_edges(&self) -> Vec<Vec<(u32, u32)>> {
+        let mut out = vec![Vec::new(); self.groups.len()];
+        for e in &self.boundary {
+            out[e.output_group() as usize].push((e.a, e.b));
+        }
+        out
+    }
+
+    /// The index of the group named `name`, added if there is none.
+    pub fn group_named(&mut self, name: &str) -> u32 {
+        match self.groups.iter().position(|g| g == name) {
+            Some(i) => i as u32,
+            None => {
+                self.groups.push(name.to_string());
+                (self.groups.len() - 1) as u32
+            }
+        }
+    }
+
+    /// The number of regions (at least one once the mesh is finished).
+    pub fn region_count(&self) -> u32 {
+        self.regions.iter().max().map_or(0, |&r| r + 1)
     }
 
     /// Total area of the quads.

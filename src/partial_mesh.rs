@@ -71,6 +71,13 @@ pub struct PartialMesh {
     edge_owner: Option<HashMap<(u32, u32), u32>>,
     /// The area of the domain (what the finished mesh must cover).
     pub area: f64,
+    /// Whether a loop that a merge or a take-back leaves must enclose an
+    /// area (a region on its left): with lines that end on a loop, a loop
+    /// can pass a hole's ring and a merge part that ring off on its own,
+    /// which no rule or fallback closes. Only for such domains, so that the
+    /// others mesh as they did (on four public domains the guard changes
+    /// the mesh, for better and worse).
+    pub guard_loop_areas: bool,
 }
 
 impl PartialMesh {
@@ -78,9 +85,14 @@ impl PartialMesh {
     /// `size` and area `area`: no element, the front the boundary; and
     /// the number of elements expected.
     pub fn new(disc: Discretised, size: f64, area: f64) -> (PartialMesh, usize) {
-        let mut front = Front::new(&disc.front_loop, size);
+        let guard_loop_areas = disc.lines_meet;
+        let mut front = Front::new(&disc.front_loops[0], size);
+        for more in &disc.front_loops[1..] {
+            front.add_loop(more, &[]);
+        }
         front.index_all(&disc.mesh.nodes);
-        let estimate = (area / (size * size)).max(1.0) + disc.front_loop.len() as f64;
+        let boundary_len: usize = disc.front_loops.iter().map(Vec::len).sum();
+        let estimate = (area / (size * size)).max(1.0) + boundary_len as f64;
         let shortest = disc
             .mesh
             .boundary
@@ -108,8 +120,20 @@ impl PartialMesh {
             fallback_only: Default::default(),
             edge_owner: None,
             area,
+            guard_loop_areas,
         };
         (pm, expected)
+    }
+
+    /// The signed area a loop encloses (positive: a region on its left).
+    pub fn loop_area(&self, l: u32) -> f64 {
+        let pts: Vec<DVec2> = self
+            .front
+            .loop_fvs(l)
+            .iter()
+            .map(|&f| self.mesh.nodes[self.front.node(f) as usize])
+            .collect();
+        crate::geometry::polygon_area(&pts)
     }
 
     /// The position of a front occurrence's node.

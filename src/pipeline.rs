@@ -509,7 +509,8 @@ impl<'k> Run<'k> {
             trace: self.mesher.trace().to_vec(),
             reason: reason.clone(),
         };
-        let mesh = mesh_by_triangles(&self.domain, &self.boundary, self.size)?;
+        let mut mesh = mesh_by_triangles(&self.domain, &self.boundary, self.size)?;
+        mesh.crack_lines = self.boundary.mesh.crack_lines.clone();
         let mut stats = self.mesher.stats();
         stats.triangle_fallbacks += 1;
         let trace = vec![TraceStep {
@@ -605,6 +606,9 @@ fn finish_mesh(
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace);
     }
+    // the finished mesh cut open along its cracks, its regions found
+    crate::cracks::open_cracks(&mut mesh);
+    mesh.regions = crate::regions::find_regions(&mesh);
     let smoothing = t0.elapsed().as_secs_f64();
     // both only read the mesh: side by side
     let (checked, quality) = std::thread::scope(|scope| {

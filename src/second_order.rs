@@ -344,6 +344,7 @@ mod tests {
             a: 0,
             b: 1,
             group: 0,
+            tag: None,
         });
         let so = SecondOrder::build(&mesh, &d, ElementKind::Quad8);
         let m = so.nodes[0];
@@ -362,8 +363,10 @@ mod tests {
             edges: vec![Edge {
                 curve,
                 segments: None,
+                tag: None,
             }],
             label: String::new(),
+            crack: false,
         };
         let d = Domain {
             name: String::new(),
@@ -378,6 +381,7 @@ mod tests {
                 a: DVec2::X,
                 b: DVec2::Y,
             })],
+            tags: vec![],
             unknown_keys: vec![],
         };
         let mut mesh = Mesh::default();
@@ -389,6 +393,7 @@ mod tests {
             a: 0,
             b: 1,
             group: 1,
+            tag: None,
         });
         let so = SecondOrder::build(&mesh, &d, ElementKind::Quad8);
         assert!(

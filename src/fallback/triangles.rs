@@ -56,6 +56,7 @@ pub fn mesh_by_triangles(
             a,
             b,
             group: e.group,
+            tag: e.tag,
         });
     }
     let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
@@ -77,11 +78,13 @@ pub fn mesh_by_triangles(
                     a: e.a,
                     b: n,
                     group: e.group,
+                    tag: e.tag,
                 });
                 next.push(BoundaryEdge {
                     a: n,
                     b: e.b,
                     group: e.group,
+                    tag: e.tag,
                 });
             } else {
                 next.push(*e);
@@ -240,11 +243,13 @@ fn triangles_to_quads(
             a: e.a,
             b: m,
             group: e.group,
+            tag: e.tag,
         });
         mesh.boundary.push(BoundaryEdge {
             a: m,
             b: e.b,
             group: e.group,
+            tag: e.tag,
         });
     }
     Ok(Ok(mesh))

@@ -86,26 +86,39 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
 }
 
 /// The discretised input: the mesh skeleton (boundary nodes and edges) and
-/// the one loop of the initial front.
+/// the loops of the initial front.
 #[derive(Debug, Clone)]
 pub struct Discretised {
     /// Nodes (boundary, line and cutting-line nodes) and boundary edges.
     pub mesh: Mesh,
-    /// The initial loop, domain on the left; nodes may repeat (both sides of
-    /// a cut or an inner line).
-    pub front_loop: Vec<u32>,
+    /// The initial loops, domain on the left; nodes may repeat (both sides
+    /// of a cut or an inner line). One loop, unless lines that reach the
+    /// boundary or each other partition the domain: then one a region.
+    pub front_loops: Vec<Vec<u32>>,
     /// The cutting lines made, as node paths (for the trace and pictures).
     #[allow(dead_code)] // no stage reads it yet
     pub cuts: Vec<Vec<u32>>,
+    /// Whether a line ends on a loop or on another line (format 1.1).
+    pub lines_meet: bool,
 }
 
-/// One component to join: a closed ring or an open path of node ids.
-#[derive(Debug, Clone)]
+/// One component to join: the closed rings and open paths of node ids of
+/// the chains that meet one another (one chain, unless lines end on a
+/// loop or on each other).
+#[derive(Debug, Clone, Default)]
 struct Component {
-    nodes: Vec<u32>,
-    closed: bool,
+    rings: Vec<Vec<u32>>,
+    paths: Vec<Vec<u32>>,
+    /// Nodes where chains meet: never the end of a cut.
+    junctions: Vec<u32>,
 }
 
+/// The nodes of a chain, its boundary edges pushed to `mesh` with the
+/// chain's group and the edges' tags (`tag_groups` maps a domain tag to
+/// its group), and for each boundary edge its input edge in `sources`.
+/// A line's vertex at a point where a vertex of an earlier chain lies
+/// (a line ending on a loop or line) takes that vertex's node.
+#[allow(clippy::too_many_arguments)]
 fn chain_nodes(
     mesh: &mut Mesh,
     chain: &Chain,
@@ -113,14 +126,23 @@ fn chain_nodes(
     closed: bool,
     group: u32,
     reverse: bool,
+    tag_groups: &[u32],
+    vertices: &mut Vec<(DVec2, u32)>,
+    sources: &mut Vec<usize>,
 ) -> Vec<u32> {
     let mut pts: Vec<DVec2> = Vec::new();
-    for (e, &n) in chain.edges.iter().zip(counts) {
+    // the input edge each segment lies on, and which points are vertices
+    let mut seg_edge: Vec<usize> = Vec::new();
+    let mut is_vertex: Vec<bool> = Vec::new();
+    for (ei, (e, &n)) in chain.edges.iter().zip(counts).enumerate() {
         let p = e.curve.divide(n);
-        match e.curve {
-            Curve::Circle { .. } => pts.extend(p),
-            _ => pts.extend(&p[..n]),
-        }
+        let k = match e.curve {
+            Curve::Circle { .. } => p.len(),
+            _ => n,
+        };
+        pts.extend(&p[..k]);
+        is_vertex.extend((0..k).map(|i| i == 0 && !matches!(e.curve, Curve::Circle { .. })));
+        seg_edge.extend(std::iter::repeat_n(ei, k));
     }
     if !closed {
         pts.push(
@@ -131,91 +153,288 @@ fn chain_nodes(
                 .curve
                 .point_at(1.0),
         );
+        is_vertex.push(true);
     }
     if reverse {
         pts.reverse();
+        is_vertex.reverse();
+        // segment i now runs from point i to i+1 of the reversed list: it
+        // was segment m-1-i (open) or, closed, segment n-2-i mod n
+        let n = seg_edge.len();
+        seg_edge = (0..n)
+            .map(|i| {
+                if closed {
+                    seg_edge[(2 * n - 2 - i) % n]
+                } else {
+                    seg_edge[n - 1 - i]
+                }
+            })
+            .collect();
     }
     let ids: Vec<u32> = pts
         .iter()
-        .map(|&p| mesh.add_node(p, NodeKind::Boundary))
+        .zip(&is_vertex)
+        .map(|(&p, &vertex)| {
+            let shared = (vertex && !closed)
+                .then(|| vertices.iter().find(|(v, _)| *v == p).map(|&(_, id)| id))
+                .flatten();
+            let id = shared.unwrap_or_else(|| mesh.add_node(p, NodeKind::Boundary));
+            if vertex && shared.is_none() {
+                vertices.push((p, id));
+            }
+            id
+        })
         .collect();
     let m = if closed { ids.len() } else { ids.len() - 1 };
     for i in 0..m {
+        let ei = seg_edge[i];
         mesh.boundary.push(BoundaryEdge {
             a: ids[i],
             b: ids[(i + 1) % ids.len()],
             group,
+            tag: chain.edges[ei].tag.map(|t| tag_groups[t as usize]),
         });
+        sources.push(ei);
     }
     ids
 }
 
 /// Discretises the domain with boundary segment length `size` and joins
-/// every hole and inner line to the outer loop by cutting lines.
+/// every hole and inner line to the outer loop by cutting lines. Where
+/// lines that reach the boundary or each other part the domain into
+/// regions, each region's loop is made even: a free edge of a loop round
+/// it (or of a line between two odd regions) gets one more segment.
 pub fn discretise(domain: &Domain, size: f64) -> Result<Discretised, DomainError> {
-    let counts = segment_counts(domain, size)?;
+    let mut counts = segment_counts(domain, size)?;
+    let (disc, faces, sources) = discretise_with(domain, size, &counts)?;
+    if faces.iter().all(|f| f.len % 2 == 0) {
+        return Ok(disc);
+    }
+    even_regions(domain, &disc.mesh, &faces, &sources, &mut counts)?;
+    let (disc, faces, _) = discretise_with(domain, size, &counts)?;
+    match faces.iter().find(|f| f.len % 2 == 1) {
+        None => Ok(disc),
+        Some(f) => Err(DomainError::Geometry(format!(
+            "a region of the domain has an odd number of boundary segments ({}): no all-quad mesh exists",
+            f.len
+        ))),
+    }
+}
+
+/// Gives each region with an odd number of boundary segments one more:
+/// on the free edge of a loop round it with the longest segments, or,
+/// where it has none, on a free edge of a line it shares with another
+/// odd region (both become even).
+fn even_regions(
+    domain: &Domain,
+    mesh: &Mesh,
+    faces: &[Face],
+    sources: &[usize],
+    counts: &mut [Vec<usize>],
+) -> Result<(), DomainError> {
+    let loops = 1 + domain.holes.len() as u32;
+    let chains: Vec<&Chain> = domain.chains().collect();
+    let input_edge = |i: usize| (mesh.boundary[i].group as usize, sources[i]);
+    let free = |(ci, ei): (usize, usize)| chains[ci].edges[ei].segments.is_none();
+    let mut odd: Vec<bool> = faces.iter().map(|f| f.len % 2 == 1).collect();
+    let mut faces_of: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+    for (fi, f) in faces.iter().enumerate() {
+        for &e in &f.edges {
+            faces_of.entry(e).or_default().push(fi);
+        }
+    }
+    for fi in 0..faces.len() {
+        if !odd[fi] {
+            continue;
+        }
+        let on_loop = faces[fi]
+            .edges
+            .iter()
+            .filter(|&&e| mesh.boundary[e].group < loops)
+            .map(|&e| input_edge(e))
+            .filter(|&x| free(x))
+            .map(|(ci, ei)| {
+                let len = chains[ci].edges[ei].curve.length() / counts[ci][ei] as f64;
+                (len, ci, ei)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+        if let Some((_, ci, ei)) = on_loop {
+            counts[ci][ei] += 1;
+            odd[fi] = false;
+            continue;
+        }
+        let on_line = faces[fi].edges.iter().find_map(|&e| {
+            let other = faces_of[&e].iter().copied().find(|&g| g != fi && odd[g])?;
+            (mesh.boundary[e].group >= loops && free(input_edge(e))).then_some((e, other))
+        });
+        match on_line {
+            Some((e, other)) => {
+                let (ci, ei) = input_edge(e);
+                counts[ci][ei] += 1;
+                odd[fi] = false;
+                odd[other] = false;
+            }
+            None => {
+                return Err(DomainError::Geometry(format!(
+                    "a region of the domain has {} boundary segments, an odd number, and no free edge to add one to: no all-quad mesh exists",
+                    faces[fi].len
+                )))
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A loop of the initial front, as `discretise` sees it for parity: its
+/// length and the boundary edges (indices into `Mesh::boundary`) it runs
+/// along.
+struct Face {
+    len: usize,
+    edges: Vec<usize>,
+}
+
+/// A discretisation with given segment counts, its faces, and the input
+/// edge (within its chain) of each boundary edge.
+fn discretise_with(
+    domain: &Domain,
+    size: f64,
+    counts: &[Vec<usize>],
+) -> Result<(Discretised, Vec<Face>, Vec<usize>), DomainError> {
     let mut mesh = Mesh::default();
-    let mut comps = Vec::new();
+    let mut vertices = Vec::new();
+    let mut sources = Vec::new();
+    let mut chains: Vec<(Vec<u32>, bool)> = Vec::new();
     mesh.groups.push("outer".into());
-    let outer_ccw = domain.outer.signed_area() > 0.0;
-    comps.push(Component {
-        nodes: chain_nodes(&mut mesh, &domain.outer, &counts[0], true, 0, !outer_ccw),
-        closed: true,
-    });
-    for (i, h) in domain.holes.iter().enumerate() {
+    for i in 0..domain.holes.len() {
         mesh.groups.push(format!("hole {}", i + 1));
-        let ccw = h.signed_area() > 0.0;
-        // holes are walked clockwise: the domain is then on the left
-        let g = mesh.groups.len() as u32 - 1;
-        comps.push(Component {
-            nodes: chain_nodes(&mut mesh, h, &counts[1 + i], true, g, ccw),
-            closed: true,
-        });
     }
-    for (i, l) in domain.lines.iter().enumerate() {
+    for i in 0..domain.lines.len() {
         mesh.groups.push(format!("line {}", i + 1));
-        let g = mesh.groups.len() as u32 - 1;
-        comps.push(Component {
-            nodes: chain_nodes(
-                &mut mesh,
-                l,
-                &counts[1 + domain.holes.len() + i],
-                false,
-                g,
-                false,
-            ),
-            closed: false,
+    }
+    let tag_groups: Vec<u32> = domain.tags.iter().map(|t| mesh.group_named(t)).collect();
+    let first_line = 1 + domain.holes.len() as u32;
+    mesh.crack_lines = (0..domain.lines.len() as u32)
+        .filter(|&i| domain.lines[i as usize].crack)
+        .map(|i| first_line + i)
+        .collect();
+    let outer_ccw = domain.outer.signed_area() > 0.0;
+    for (ci, chain) in domain.chains().enumerate() {
+        let closed = ci <= domain.holes.len();
+        // the outer loop is walked counter-clockwise, holes clockwise: the
+        // domain is then on the left
+        let reverse = match ci {
+            0 => !outer_ccw,
+            _ if closed => chain.signed_area() > 0.0,
+            _ => false,
+        };
+        let nodes = chain_nodes(
+            &mut mesh,
+            chain,
+            &counts[ci],
+            closed,
+            ci as u32,
+            reverse,
+            &tag_groups,
+            &mut vertices,
+            &mut sources,
+        );
+        chains.push((nodes, closed));
+    }
+    let comps = components(&chains);
+    let lines_meet = comps.iter().any(|c| !c.junctions.is_empty());
+    let cuts = join_components(&mut mesh, &comps, size)?;
+    let (front_loops, faces) = trace_faces(&mesh, 1 + domain.holes.len() as u32, &cuts);
+    Ok((
+        Discretised {
+            mesh,
+            front_loops,
+            cuts,
+            lines_meet,
+        },
+        faces,
+        sources,
+    ))
+}
+
+/// The chains grouped into components: chains that share a node (a line
+/// ending on a loop or another line) are one component. In the order of
+/// their first chain, so the outer loop's comes first.
+fn components(chains: &[(Vec<u32>, bool)]) -> Vec<Component> {
+    let n = chains.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut owner: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    let mut junctions: Vec<u32> = Vec::new();
+    for (ci, (nodes, _)) in chains.iter().enumerate() {
+        for &v in nodes {
+            match owner.get(&v) {
+                Some(&cj) if cj != ci => {
+                    let (a, b) = (root(&mut parent, ci), root(&mut parent, cj));
+                    parent[a.max(b)] = a.min(b);
+                    junctions.push(v);
+                }
+                Some(_) => {}
+                None => {
+                    owner.insert(v, ci);
+                }
+            }
+        }
+    }
+    let mut index: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    let mut comps: Vec<Component> = Vec::new();
+    for (ci, (nodes, closed)) in chains.iter().enumerate() {
+        let r = root(&mut parent, ci);
+        let k = *index.entry(r).or_insert_with(|| {
+            comps.push(Component::default());
+            comps.len() - 1
         });
+        if *closed {
+            comps[k].rings.push(nodes.clone());
+        } else {
+            comps[k].paths.push(nodes.clone());
+        }
     }
-    let (front_loop, cuts) = join_components(&mut mesh, &comps, size)?;
-    Ok(Discretised {
-        mesh,
-        front_loop,
-        cuts,
-    })
+    for c in &mut comps {
+        c.junctions = junctions
+            .iter()
+            .copied()
+            .filter(|j| c.rings.iter().chain(&c.paths).any(|r| r.contains(j)))
+            .collect();
+    }
+    comps
 }
 
-/// A candidate attachment node of a component: ring nodes, or a line's ends.
+/// The candidate attachment nodes of a component: ring nodes and line
+/// ends, but no node where chains meet.
 fn attach_nodes(c: &Component) -> Vec<u32> {
-    if c.closed {
-        c.nodes.clone()
-    } else {
-        vec![c.nodes[0], *c.nodes.last().expect("lines have points")]
-    }
+    c.rings
+        .iter()
+        .flat_map(|r| r.iter().copied())
+        .chain(
+            c.paths
+                .iter()
+                .flat_map(|p| [p[0], *p.last().expect("lines have points")]),
+        )
+        .filter(|v| !c.junctions.contains(v))
+        .collect()
 }
 
-/// The wedge of directions into the domain at a node of a component:
-/// (direction to next, direction to prev, interior angle), domain on the
-/// left of the walk; a line end is open all round.
+/// The wedge of directions into the domain at a ring node of a component:
+/// (direction to next, interior angle), domain on the left of the walk;
+/// a line end is open all round (None).
 fn wedge(mesh: &Mesh, c: &Component, node: u32) -> Option<(DVec2, f64)> {
-    if !c.closed {
-        return None;
-    }
-    let k = c.nodes.iter().position(|&n| n == node)?;
-    let n = c.nodes.len();
-    let p = mesh.nodes[c.nodes[(k + n - 1) % n] as usize];
+    let ring = c.rings.iter().find(|r| r.contains(&node))?;
+    let k = ring.iter().position(|&n| n == node)?;
+    let n = ring.len();
+    let p = mesh.nodes[ring[(k + n - 1) % n] as usize];
     let v = mesh.nodes[node as usize];
-    let x = mesh.nodes[c.nodes[(k + 1) % n] as usize];
+    let x = mesh.nodes[ring[(k + 1) % n] as usize];
     Some(((x - v).normalize_or_zero(), interior_angle(p, v, x)))
 }
 
@@ -245,23 +464,25 @@ fn split_quality(mesh: &Mesh, c: &Component, node: u32, d: DVec2) -> Option<f64>
     }
 }
 
+/// Joins every component to the outer loop's by the shortest clear
+/// cutting lines (Fig. 2); returns the cuts as node paths, each from the
+/// joined side to the component it joins.
 fn join_components(
     mesh: &mut Mesh,
     comps: &[Component],
     size: f64,
-) -> Result<(Vec<u32>, Vec<Vec<u32>>), DomainError> {
+) -> Result<Vec<Vec<u32>>, DomainError> {
     let n = comps.len();
     // All input segments, for the crossing tests of candidate cuts.
     let mut segs: Vec<(DVec2, DVec2, u32, u32)> = Vec::new();
     for c in comps {
-        let m = if c.closed {
-            c.nodes.len()
-        } else {
-            c.nodes.len() - 1
-        };
-        for i in 0..m {
-            let (a, b) = (c.nodes[i], c.nodes[(i + 1) % c.nodes.len()]);
-            segs.push((mesh.nodes[a as usize], mesh.nodes[b as usize], a, b));
+        let rings = c.rings.iter().map(|r| (r, true));
+        for (nodes, closed) in rings.chain(c.paths.iter().map(|p| (p, false))) {
+            let m = if closed { nodes.len() } else { nodes.len() - 1 };
+            for i in 0..m {
+                let (a, b) = (nodes[i], nodes[(i + 1) % nodes.len()]);
+                segs.push((mesh.nodes[a as usize], mesh.nodes[b as usize], a, b));
+            }
         }
     }
     let mut joined = vec![false; n];
@@ -336,14 +557,7 @@ fn join_components(
         cuts.push((v, u, ci, interior));
         joined[ci] = true;
     }
-    // Walk: the loop round the outer ring, detouring along each cut.
-    let mut child_of = std::collections::HashMap::new();
-    for (i, c) in cuts.iter().enumerate() {
-        child_of.insert(c.0, i);
-    }
-    let mut out = Vec::new();
-    tour(comps, &cuts, &child_of, 0, comps[0].nodes[0], &mut out);
-    let cut_paths = cuts
+    Ok(cuts
         .iter()
         .map(|c| {
             std::iter::once(c.0)
@@ -351,8 +565,82 @@ fn join_components(
                 .chain(std::iter::once(c.1))
                 .collect()
         })
-        .collect();
-    Ok((out, cut_paths))
+        .collect())
+}
+
+/// The loops of the initial front: the faces of the plane graph of the
+/// boundary edges (loops walked one way, domain on the left; lines and
+/// cuts both ways), each walked turning as far right as it can at every
+/// node, so the region is on the left. The first loop starts where the
+/// walk round the outer loop leaves its first node. With one region this
+/// is the one loop round the outer ring that detours along each cut and
+/// round every line and hole it reaches.
+fn trace_faces(mesh: &Mesh, loops: u32, cuts: &[Vec<u32>]) -> (Vec<Vec<u32>>, Vec<Face>) {
+    use std::f64::consts::TAU;
+    // half-edges: (from, to, boundary edge it runs along)
+    let mut half: Vec<(u32, u32, Option<usize>)> = Vec::new();
+    for (i, e) in mesh.boundary.iter().enumerate() {
+        half.push((e.a, e.b, Some(i)));
+        if e.group >= loops {
+            half.push((e.b, e.a, Some(i)));
+        }
+    }
+    for c in cuts {
+        for w in c.windows(2) {
+            half.push((w[0], w[1], None));
+            half.push((w[1], w[0], None));
+        }
+    }
+    let mut out_of: std::collections::HashMap<u32, Vec<usize>> = std::collections::HashMap::new();
+    for (h, &(a, _, _)) in half.iter().enumerate() {
+        out_of.entry(a).or_default().push(h);
+    }
+    let dir = |a: u32, b: u32| {
+        let d = mesh.nodes[b as usize] - mesh.nodes[a as usize];
+        d.y.atan2(d.x)
+    };
+    // the half-edge after h: the first out of its end clockwise from the
+    // way back (the way back itself last)
+    let next = |h: usize| -> usize {
+        let (a, v, _) = half[h];
+        let back = dir(v, a);
+        let turn = |g: usize| {
+            let t = (back - dir(v, half[g].1)).rem_euclid(TAU);
+            if half[g].1 == a && t < 1e-12 {
+                TAU
+            } else {
+                t
+            }
+        };
+        *out_of[&v]
+            .iter()
+            .min_by(|&&g, &&k| turn(g).total_cmp(&turn(k)).then(g.cmp(&k)))
+            .expect("a boundary node has a way on")
+    };
+    let mut seen = vec![false; half.len()];
+    let mut loops_out = Vec::new();
+    let mut faces = Vec::new();
+    let outer_len = mesh.boundary.iter().take_while(|e| e.group == 0).count();
+    let first = (outer_len > 0).then(|| next(outer_len - 1));
+    for start in first.into_iter().chain(0..half.len()) {
+        if seen[start] {
+            continue;
+        }
+        let (mut nodes, mut edges) = (Vec::new(), Vec::new());
+        let mut h = start;
+        while !seen[h] {
+            seen[h] = true;
+            nodes.push(half[h].0);
+            edges.extend(half[h].2);
+            h = next(h);
+        }
+        faces.push(Face {
+            len: nodes.len(),
+            edges,
+        });
+        loops_out.push(nodes);
+    }
+    (loops_out, faces)
 }
 
 /// The search of `join_components` over candidate cuts sorted by length:
@@ -404,52 +692,4 @@ fn best_cut(
         }
     }
     (best, false)
-}
-
-type Cut = (u32, u32, usize, Vec<u32>);
-
-/// Emits the loop round component `ci` from node `start` (not repeating
-/// `start` at the end), detouring through each cut that hangs from it.
-fn tour(
-    comps: &[Component],
-    cuts: &[Cut],
-    child_of: &std::collections::HashMap<u32, usize>,
-    ci: usize,
-    start: u32,
-    out: &mut Vec<u32>,
-) {
-    let c = &comps[ci];
-    let order: Vec<u32> = if c.closed {
-        let k = c
-            .nodes
-            .iter()
-            .position(|&x| x == start)
-            .expect("start is on the ring");
-        (0..c.nodes.len())
-            .map(|i| c.nodes[(k + i) % c.nodes.len()])
-            .collect()
-    } else {
-        // out to the far end and back along the other side
-        let mut p = c.nodes.clone();
-        if p[0] != start {
-            p.reverse();
-        }
-        let back: Vec<u32> = p[1..p.len() - 1].iter().rev().copied().collect();
-        p.extend(back);
-        p
-    };
-    for (i, &v) in order.iter().enumerate() {
-        out.push(v);
-        if i == 0 && ci != 0 {
-            continue; // the start hangs from the parent's cut
-        }
-        if let Some(&k) = child_of.get(&v) {
-            let (_, u, child, interior) = &cuts[k];
-            out.extend(interior.iter().copied());
-            tour(comps, cuts, child_of, *child, *u, out);
-            out.push(*u);
-            out.extend(interior.iter().rev().copied());
-            out.push(v);
-        }
-    }
 }

@@ -60,164 +60,8 @@ fn key_err(key: &str, message: impl Into<String>) -> DomainError {
     }
 }
 
-/// One edge of a loop or line: a straight segment or a circular arc.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Curve {
-    /// Straight edge from `a` to `b`.
-    Line {
-        /// Start point.
-        a: DVec2,
-        /// End point.
-        b: DVec2,
-    },
-    /// Circular arc from `a` to `b` with the DXF bulge tan(sweep/4),
-    /// positive counter-clockwise.
-    Arc {
-        /// Start point.
-        a: DVec2,
-        /// End point.
-        b: DVec2,
-        /// tan(sweep / 4), signed.
-        bulge: f64,
-    },
-    /// A full circle (a loop by itself), traversed counter-clockwise from
-    /// angle 0.
-    Circle {
-        /// Centre.
-        center: DVec2,
-        /// Radius.
-        radius: f64,
-    },
-}
-
-impl Curve {
-    /// Centre, radius, start angle and signed sweep of an arc.
-    fn arc_frame(a: DVec2, b: DVec2, bulge: f64) -> (DVec2, f64, f64, f64) {
-        let sweep = 4.0 * bulge.atan();
-        let half = (b - a).length() / 2.0;
-        let d = (b - a) / (2.0 * half);
-        let left = DVec2::new(-d.y, d.x);
-        let c = (a + b) / 2.0 + left * half * (1.0 - bulge * bulge) / (2.0 * bulge);
-        let r = (a - c).length();
-        let a0 = (a.y - c.y).atan2(a.x - c.x);
-        (c, r, a0, sweep)
-    }
-
-    /// Length of the curve.
-    pub fn length(&self) -> f64 {
-        match *self {
-            Curve::Line { a, b } => (b - a).length(),
-            Curve::Arc { a, b, bulge } => {
-                let (_, r, _, sweep) = Self::arc_frame(a, b, bulge);
-                r * sweep.abs()
-            }
-            Curve::Circle { radius, .. } => 2.0 * PI * radius,
-        }
-    }
-
-    /// The point at parameter `t` in [0, 1] (uniform in arc length).
-    pub fn point_at(&self, t: f64) -> DVec2 {
-        match *self {
-            Curve::Line { a, b } => a + (b - a) * t,
-            Curve::Arc { a, b, bulge } => {
-                if t <= 0.0 {
-                    return a;
-                }
-                if t >= 1.0 {
-                    return b;
-                }
-                let (c, r, a0, sweep) = Self::arc_frame(a, b, bulge);
-                let ang = a0 + sweep * t;
-                c + r * DVec2::new(ang.cos(), ang.sin())
-            }
-            Curve::Circle { center, radius } => {
-                let ang = 2.0 * PI * t;
-                center + radius * DVec2::new(ang.cos(), ang.sin())
-            }
-        }
-    }
-
-    /// Projects `p` onto the curve: the closest point on it.
-    pub fn project(&self, p: DVec2) -> DVec2 {
-        match *self {
-            Curve::Line { a, b } => {
-                let d = b - a;
-                let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-                a + d * t
-            }
-            Curve::Circle { center, radius } => {
-                let v = p - center;
-                if v.length() < 1e-300 {
-                    return center + DVec2::new(radius, 0.0);
-                }
-                center + v.normalize() * radius
-            }
-            Curve::Arc { a, b, bulge } => {
-                let (c, r, a0, sweep) = Self::arc_frame(a, b, bulge);
-                let ang = (p.y - c.y).atan2(p.x - c.x);
-                let mut rel = (ang - a0) * sweep.signum();
-                rel = rel.rem_euclid(2.0 * PI);
-                if rel <= sweep.abs() {
-                    let t = a0 + rel * sweep.signum();
-                    c + r * DVec2::new(t.cos(), t.sin())
-                } else if (p - a).length() < (p - b).length() {
-                    a
-                } else {
-                    b
-                }
-            }
-        }
-    }
-
-    /// `n` segments of (about) equal length: n+1 points, ends included
-    /// (a circle: n points, the first not repeated).
-    pub fn divide(&self, n: usize) -> Vec<DVec2> {
-        match self {
-            Curve::Circle { .. } => (0..n).map(|k| self.point_at(k as f64 / n as f64)).collect(),
-            _ => (0..=n)
-                .map(|k| self.point_at(k as f64 / n as f64))
-                .collect(),
-        }
-    }
-
-    /// The signed area contribution (shoelace term plus the arc's segment).
-    pub fn signed_area_term(&self) -> f64 {
-        match *self {
-            Curve::Line { a, b } => 0.5 * a.perp_dot(b),
-            Curve::Arc { a, b, bulge } => {
-                let (_, r, _, sweep) = Self::arc_frame(a, b, bulge);
-                0.5 * a.perp_dot(b)
-                    + 0.5 * r * r * (sweep.abs() - sweep.abs().sin()) * sweep.signum()
-            }
-            Curve::Circle { radius, .. } => PI * radius * radius,
-        }
-    }
-}
-
-/// An edge of a loop or line with its optional fixed segment count.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Edge {
-    /// The geometry of the edge.
-    pub curve: Curve,
-    /// Exact segment count, if the file fixes it.
-    pub segments: Option<usize>,
-}
-
-/// A closed loop (outer boundary or hole) or an open inner line.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Chain {
-    /// Its edges in order.
-    pub edges: Vec<Edge>,
-    /// Where it came from in the file, e.g. `holes[1]`, for messages.
-    pub label: String,
-}
-
-impl Chain {
-    /// Signed area enclosed (counter-clockwise positive); closed loops only.
-    pub fn signed_area(&self) -> f64 {
-        self.edges.iter().map(|e| e.curve.signed_area_term()).sum()
-    }
-}
+pub use super::curves::{Chain, Curve, Edge};
+use super::curves::{chain_vertices, line_end, set_line_end, split_curve};
 
 /// A validated domain: the only ways to make one are the constructors,
 /// [`Domain::from_file`], [`Domain::from_json_str`] and
@@ -244,8 +88,13 @@ pub struct Domain {
     pub(crate) outer: Chain,
     /// Holes.
     pub(crate) holes: Vec<Chain>,
-    /// Inner lines (open).
+    /// Inner lines (open). A line may start or end on a loop or on another
+    /// line (format 1.1): such a point is a vertex of both (an edge it
+    /// lands in the middle of is split there when the domain is read).
     pub(crate) lines: Vec<Chain>,
+    /// The edge tags' names, in order of first appearance (outer, holes,
+    /// lines, edge by edge); `Edge::tag` indexes this.
+    pub(crate) tags: Vec<String>,
     /// Keys the format does not know, each with where it is: ignored, and
     /// worth a warning (a misspelt `holes` would silently drop the holes).
     pub(crate) unknown_keys: Vec<String>,
@@ -253,8 +102,8 @@ pub struct Domain {
 
 /// The keys of each object of the format (domain-format.md).
 const TOP_KEYS: &[&str] = &["name", "size", "max_size", "outer", "holes", "lines"];
-const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "circle"];
-const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments"];
+const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "tags", "circle", "crack"];
+const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments", "tag"];
 
 /// Every key of the domain's objects that the format does not know, as
 /// "where: key (did you mean ...?)".
@@ -373,13 +222,46 @@ fn segment_count(v: &Value, key: &str) -> Result<Option<usize>, DomainError> {
     Ok(if n == 0.0 { None } else { Some(n as usize) })
 }
 
-fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
+/// An edge's tag: a string (`""` or null: none), interned in `tags`.
+fn tag(v: &Value, key: &str, tags: &mut Vec<String>) -> Result<Option<u32>, DomainError> {
+    match v {
+        Value::Null => Ok(None),
+        Value::String(s) if s.is_empty() => Ok(None),
+        Value::String(s) => Ok(Some(match tags.iter().position(|t| t == s) {
+            Some(i) => i as u32,
+            None => {
+                tags.push(s.clone());
+                (tags.len() - 1) as u32
+            }
+        })),
+        _ => Err(key_err(key, "expected a string (the edge's tag)")),
+    }
+}
+
+fn chain(v: &Value, key: &str, closed: bool, tags: &mut Vec<String>) -> Result<Chain, DomainError> {
     let obj = v
         .as_object()
         .ok_or_else(|| key_err(key, "expected an object with \"points\" or \"circle\""))?;
+    let crack = match obj.get("crack") {
+        None | Some(Value::Null) | Some(Value::Bool(false)) => false,
+        Some(Value::Bool(true)) if !closed => true,
+        Some(Value::Bool(true)) => {
+            return Err(key_err(
+                &format!("{key}.crack"),
+                "only an inner line can be a crack",
+            ))
+        }
+        Some(_) => return Err(key_err(&format!("{key}.crack"), "expected true or false")),
+    };
     if let Some(c) = obj.get("circle") {
         if !closed {
             return Err(key_err(key, "an inner line cannot be a circle"));
+        }
+        if obj.get("tags").is_some_and(|t| !t.is_null()) {
+            return Err(key_err(
+                &format!("{key}.tags"),
+                "a circle takes its tag as circle.tag",
+            ));
         }
         let ck = format!("{key}.circle");
         let co = c
@@ -405,12 +287,18 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
                 "a circle needs at least 3 segments",
             ));
         }
+        let tag = match co.get("tag") {
+            Some(t) => tag(t, &format!("{ck}.tag"), tags)?,
+            None => None,
+        };
         return Ok(Chain {
             edges: vec![Edge {
                 curve: Curve::Circle { center, radius },
                 segments,
+                tag,
             }],
             label: key.to_string(),
+            crack: false,
         });
     }
     let pk = format!("{key}.points");
@@ -453,6 +341,7 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
     };
     let bulges = per_edge("bulges")?;
     let counts = per_edge("segments")?;
+    let edge_tags = per_edge("tags")?;
     let mut edges = Vec::with_capacity(m);
     for i in 0..m {
         let a = points[i];
@@ -481,11 +370,17 @@ fn chain(v: &Value, key: &str, closed: bool) -> Result<Chain, DomainError> {
             Curve::Arc { a, b, bulge }
         };
         let segments = segment_count(&counts[i], &format!("{key}.segments[{i}]"))?;
-        edges.push(Edge { curve, segments });
+        let tag = tag(&edge_tags[i], &format!("{key}.tags[{i}]"), tags)?;
+        edges.push(Edge {
+            curve,
+            segments,
+            tag,
+        });
     }
     Ok(Chain {
         edges,
         label: key.to_string(),
+        crack,
     })
 }
 
@@ -542,11 +437,13 @@ impl Domain {
             None | Some(Value::Null) => None,
             Some(x) => Some(positive(x, "max_size")?),
         };
+        let mut tags = Vec::new();
         let outer = chain(
             obj.get("outer")
                 .ok_or_else(|| key_err("outer", "missing key"))?,
             "outer",
             true,
+            &mut tags,
         )?;
         let list = |k: &str| -> Result<Vec<Value>, DomainError> {
             match obj.get(k) {
@@ -558,22 +455,24 @@ impl Domain {
         let holes = list("holes")?
             .iter()
             .enumerate()
-            .map(|(i, h)| chain(h, &format!("holes[{i}]"), true))
+            .map(|(i, h)| chain(h, &format!("holes[{i}]"), true, &mut tags))
             .collect::<Result<Vec<_>, _>>()?;
         let lines = list("lines")?
             .iter()
             .enumerate()
-            .map(|(i, l)| chain(l, &format!("lines[{i}]"), false))
+            .map(|(i, l)| chain(l, &format!("lines[{i}]"), false, &mut tags))
             .collect::<Result<Vec<_>, _>>()?;
-        let d = Domain {
+        let mut d = Domain {
             name,
             size,
             max_size,
             outer,
             holes,
             lines,
+            tags,
             unknown_keys: unknown_keys(v),
         };
+        d.attach_line_ends()?;
         d.check_geometry()?;
         Ok(d)
     }
@@ -648,6 +547,141 @@ impl Domain {
         pts
     }
 
+    /// The size of the outer loop's bounding box: the model's scale.
+    pub fn scale(&self) -> f64 {
+        let (mut lo, mut hi) = (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN));
+        for p in Self::fine_polyline(&self.outer, true) {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        (hi - lo).max_element()
+    }
+
+    /// How near a line's end must come to a loop or another line to end
+    /// on it: a millionth of the model's scale (coordinates written with
+    /// six decimals end on a slanted edge).
+    pub fn tolerance(&self) -> f64 {
+        1e-6 * self.scale()
+    }
+
+    /// The end points of the lines that end on a loop or another line
+    /// (partitions, edge cracks, T-junctions): each is a vertex of both.
+    pub fn junctions(&self) -> Vec<DVec2> {
+        let vertices: Vec<(usize, DVec2)> = self
+            .chains()
+            .enumerate()
+            .flat_map(|(ci, c)| chain_vertices(c).into_iter().map(move |v| (ci, v)))
+            .collect();
+        let first_line = 1 + self.holes.len();
+        let mut out: Vec<DVec2> = Vec::new();
+        for (li, l) in self.lines.iter().enumerate() {
+            let ends = chain_vertices(l);
+            for end in [ends[0], ends[ends.len() - 1]] {
+                let shared = vertices
+                    .iter()
+                    .any(|&(ci, v)| ci != first_line + li && v == end);
+                if shared && !out.contains(&end) {
+                    out.push(end);
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether two touching segments of different chains meet only at a
+    /// common end that is a junction (a line's end on a loop or line).
+    fn meet_at_a_line_end(&self, p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> bool {
+        let shared = [p1, p2].into_iter().find(|&p| p == q1 || p == q2);
+        let Some(s) = shared else { return false };
+        self.lines.iter().any(|l| {
+            let ends = chain_vertices(l);
+            s == ends[0] || s == ends[ends.len() - 1]
+        })
+    }
+
+    /// Makes every line end that lies on a loop or on another line (within
+    /// `tolerance`) a vertex of it: snapped to a vertex it is that near, or
+    /// else the edge it lands on is split there (the line stays as it is
+    /// written, the edge bends by at most the tolerance).
+    fn attach_line_ends(&mut self) -> Result<(), DomainError> {
+        if self.lines.is_empty() {
+            return Ok(());
+        }
+        let tol = self.tolerance();
+        let first_line = 1 + self.holes.len();
+        let n_chains = first_line + self.lines.len();
+        for li in 0..self.lines.len() {
+            for at_end in [false, true] {
+                let line = &self.lines[li];
+                let mut p = line_end(line, at_end);
+                for ci in 0..n_chains {
+                    if ci == first_line + li {
+                        continue;
+                    }
+                    let other = self.chain_mut(ci);
+                    if let Some(v) = chain_vertices(other)
+                        .into_iter()
+                        .find(|v| (*v - p).length() <= tol)
+                    {
+                        p = v;
+                        set_line_end(&mut self.lines[li], at_end, v);
+                        continue;
+                    }
+                    let Some(ei) = other
+                        .edges
+                        .iter()
+                        .position(|e| (e.curve.project(p) - p).length() <= tol)
+                    else {
+                        continue;
+                    };
+                    let label = other.label.clone();
+                    let e = other.edges[ei];
+                    let (c1, c2) = split_curve(e.curve, p);
+                    let (n1, n2) = match e.segments {
+                        None => (None, None),
+                        Some(n) if n < 2 => {
+                            return Err(DomainError::Geometry(format!(
+                                "{} ends in the middle of {label} edge {ei}, whose one fixed segment leaves no node there",
+                                self.lines[li].label
+                            )))
+                        }
+                        Some(n) => {
+                            let share = c1.length() / (c1.length() + c2.length());
+                            let k = ((n as f64 * share).round() as usize).clamp(1, n - 1);
+                            (Some(k), Some(n - k))
+                        }
+                    };
+                    let other = self.chain_mut(ci);
+                    other.edges[ei] = Edge {
+                        curve: c1,
+                        segments: n1,
+                        tag: e.tag,
+                    };
+                    other.edges.insert(
+                        ei + 1,
+                        Edge {
+                            curve: c2,
+                            segments: n2,
+                            tag: e.tag,
+                        },
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn chain_mut(&mut self, ci: usize) -> &mut Chain {
+        let first_line = 1 + self.holes.len();
+        if ci == 0 {
+            &mut self.outer
+        } else if ci < first_line {
+            &mut self.holes[ci - 1]
+        } else {
+            &mut self.lines[ci - first_line]
+        }
+    }
+
     fn check_geometry(&self) -> Result<(), DomainError> {
         let polys: Vec<(String, Vec<DVec2>, bool)> = std::iter::once((
             self.outer.label.clone(),
@@ -720,6 +754,9 @@ impl Domain {
                             polys[ci].0, p1.x, p1.y
                         )));
                     }
+                    if rel == SegmentRelation::Touch && self.meet_at_a_line_end(p1, p2, q1, q2) {
+                        continue;
+                    }
                     return Err(DomainError::Geometry(format!(
                         "{} and {} cross or touch near ({:.6}, {:.6})",
                         polys[ci].0, polys[cj].0, p1.x, p1.y
@@ -734,9 +771,12 @@ impl Domain {
         }
         // Every hole and line lies inside the outer loop (no crossings, so
         // one point of each decides), and outside every hole.
+        // a line may end on a loop: its probe is the middle of its first
+        // segment, never an end
+        let probe = |p: &[DVec2], closed: bool| if closed { p[0] } else { (p[0] + p[1]) / 2.0 };
         let outer = &polys[0].1;
-        for (label, p, _) in &polys[1..] {
-            if !crate::geometry::point_in_polygon(p[0], outer) {
+        for (label, p, closed) in &polys[1..] {
+            if !crate::geometry::point_in_polygon(probe(p, *closed), outer) {
                 return Err(DomainError::Geometry(format!(
                     "{label} lies outside the outer loop"
                 )));
@@ -744,8 +784,8 @@ impl Domain {
         }
         for (hi, h) in self.holes.iter().enumerate() {
             let hp = &polys[1 + hi].1;
-            for (label, p, _) in &polys[1..] {
-                if label != &h.label && crate::geometry::point_in_polygon(p[0], hp) {
+            for (label, p, closed) in &polys[1..] {
+                if label != &h.label && crate::geometry::point_in_polygon(probe(p, *closed), hp) {
                     return Err(DomainError::Geometry(format!(
                         "{label} lies inside {}",
                         h.label

@@ -2,4 +2,5 @@
 //! discretised with the cutting lines drawn.
 
 pub mod boundary;
+pub mod curves;
 pub mod domain;

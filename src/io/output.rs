@@ -128,9 +128,11 @@ fn bbox(mesh: &Mesh) -> (f64, f64, f64, f64) {
     b
 }
 
-/// Gmsh MSH 4.1 ASCII: one surface entity (physical group "domain") with
-/// the quads (type 3; second order: 16 with 8 nodes, 10 with 9), one curve
-/// entity per input loop and inner line with its boundary edges (type 1;
+/// Gmsh MSH 4.1 ASCII: the quads (type 3; second order: 16 with 8 nodes,
+/// 10 with 9) in a surface entity with the physical group "domain" (one
+/// entity a region, each also in the group `region K`, when lines part the
+/// domain), and one curve entity a boundary group (each input loop and
+/// inner line, each tag, each crack face) with its boundary edges (type 1;
 /// second order: 8, the mid-edge node last) in a physical group of its
 /// name.
 pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
@@ -142,18 +144,41 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
     };
     let mut s = String::with_capacity(64 * (mesh.nodes.len() + extra.len() + mesh.quads.len()));
     let ng = mesh.groups.len();
+    let regions = mesh.region_count() as usize;
+    // one surface a region when there are several: physical tags ng + 2...
+    let region_groups = if regions > 1 { regions } else { 0 };
     let (x0, y0, x1, y1) = bbox(mesh);
     s.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
-    let _ = writeln!(s, "$PhysicalNames\n{}", ng + 1);
+    let _ = writeln!(s, "$PhysicalNames\n{}", ng + 1 + region_groups);
     for (i, g) in mesh.groups.iter().enumerate() {
-        let _ = writeln!(s, "1 {} \"{}\"", i + 1, g);
+        let _ = writeln!(s, "1 {} \"{}\"", i + 1, g.replace('"', "'"));
     }
-    let _ = writeln!(s, "2 {} \"domain\"\n$EndPhysicalNames", ng + 1);
-    let _ = writeln!(s, "$Entities\n0 {ng} 1 0");
+    let _ = writeln!(s, "2 {} \"domain\"", ng + 1);
+    for r in 0..region_groups {
+        let _ = writeln!(s, "2 {} \"region {}\"", ng + 2 + r, r + 1);
+    }
+    s.push_str("$EndPhysicalNames\n");
+    let surfaces = regions.max(1);
+    let _ = writeln!(s, "$Entities\n0 {ng} {surfaces} 0");
     for i in 0..ng {
         let _ = writeln!(s, "{} {x0} {y0} 0 {x1} {y1} 0 1 {} 0", i + 1, i + 1);
     }
-    let _ = writeln!(s, "1 {x0} {y0} 0 {x1} {y1} 0 1 {} 0\n$EndEntities", ng + 1);
+    if region_groups == 0 {
+        let _ = writeln!(s, "1 {x0} {y0} 0 {x1} {y1} 0 1 {} 0", ng + 1);
+    } else {
+        // the region's group first: a reader that keeps one physical
+        // group an entity keeps that one
+        for r in 0..regions {
+            let _ = writeln!(
+                s,
+                "{} {x0} {y0} 0 {x1} {y1} 0 2 {} {} 0",
+                r + 1,
+                ng + 2 + r,
+                ng + 1
+            );
+        }
+    }
+    s.push_str("$EndEntities\n");
     let n = mesh.nodes.len() + extra.len();
     let _ = writeln!(s, "$Nodes\n1 {n} 1 {n}\n2 1 0 {n}");
     for i in 0..n {
@@ -184,11 +209,8 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
     s.push_str(&a);
     s.push_str(&b);
     s.push_str("$EndNodes\n");
-    let mut by_group: Vec<Vec<(u32, u32)>> = vec![Vec::new(); ng];
-    for e in &mesh.boundary {
-        by_group[e.group as usize].push((e.a, e.b));
-    }
-    let blocks = by_group.iter().filter(|v| !v.is_empty()).count() + 1;
+    let by_group = mesh.group_edges();
+    let blocks = by_group.iter().filter(|v| !v.is_empty()).count() + surfaces;
     let total = mesh.boundary.len() + mesh.quads.len();
     let _ = writeln!(s, "$Elements\n{blocks} {total} 1 {total}");
     let mut tag = 1;
@@ -206,21 +228,33 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
             tag += 1;
         }
     }
-    let _ = writeln!(s, "2 1 {quad_type} {}", mesh.quads.len());
-    for q in 0..mesh.quads.len() {
-        let _ = write!(s, "{tag}");
-        for n in element_nodes(mesh, second, q) {
-            let _ = write!(s, " {}", n + 1);
+    for r in 0..surfaces {
+        let in_region = |q: usize| region_groups == 0 || mesh.regions[q] as usize == r;
+        let count = (0..mesh.quads.len()).filter(|&q| in_region(q)).count();
+        let _ = writeln!(s, "2 {} {quad_type} {count}", r + 1);
+        for q in 0..mesh.quads.len() {
+            if !in_region(q) {
+                continue;
+            }
+            let _ = write!(s, "{tag}");
+            for n in element_nodes(mesh, second, q) {
+                let _ = write!(s, " {}", n + 1);
+            }
+            s.push('\n');
+            tag += 1;
         }
-        s.push('\n');
-        tag += 1;
     }
     s.push_str("$EndElements\n");
     s
 }
 
 /// Legacy VTK (ASCII unstructured grid of quads, cell type 9; second
-/// order: 23 with 8 nodes, 28 with 9).
+/// order: 23 with 8 nodes, 28 with 9). Where the domain has named
+/// boundary groups (tags, crack faces) the boundary edges follow the quads
+/// as line cells (type 3), with one cell-data array a named group (1 on
+/// its edges, 0 elsewhere; spaces in the name written as `_`); where lines
+/// part the domain, the cell-data array `region` numbers each quad's
+/// region from 1 (0 on line cells).
 pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
     let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
     let (per, cell_type) = match second.map(|so| so.kind) {
@@ -238,8 +272,16 @@ pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
     for p in mesh.nodes.iter().chain(extra) {
         let _ = writeln!(s, "{:?} {:?} 0", p.x, p.y);
     }
+    let named: Vec<u32> = named_groups(mesh);
+    let lines = if named.is_empty() {
+        &[][..]
+    } else {
+        &mesh.boundary[..]
+    };
+    let regions = mesh.region_count();
     let nq = mesh.quads.len();
-    let _ = writeln!(s, "CELLS {nq} {}", nq * (per + 1));
+    let cells = nq + lines.len();
+    let _ = writeln!(s, "CELLS {cells} {}", nq * (per + 1) + lines.len() * 3);
     for q in 0..nq {
         let _ = write!(s, "{per}");
         for n in element_nodes(mesh, second, q) {
@@ -247,12 +289,50 @@ pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
         }
         s.push('\n');
     }
-    let _ = writeln!(s, "CELL_TYPES {nq}");
+    for e in lines {
+        let _ = writeln!(s, "2 {} {}", e.a, e.b);
+    }
+    let _ = writeln!(s, "CELL_TYPES {cells}");
     for _ in 0..nq {
         s.push_str(cell_type);
         s.push('\n');
     }
+    for _ in lines {
+        s.push_str("3\n");
+    }
+    if named.is_empty() && regions <= 1 {
+        return s;
+    }
+    let _ = writeln!(s, "CELL_DATA {cells}");
+    if regions > 1 {
+        s.push_str("SCALARS region int 1\nLOOKUP_TABLE default\n");
+        for r in &mesh.regions {
+            let _ = writeln!(s, "{}", r + 1);
+        }
+        for _ in lines {
+            s.push_str("0\n");
+        }
+    }
+    for g in named {
+        let label = mesh.groups[g as usize].replace(char::is_whitespace, "_");
+        let _ = writeln!(s, "SCALARS {label} int 1\nLOOKUP_TABLE default");
+        for _ in 0..nq {
+            s.push_str("0\n");
+        }
+        for e in lines {
+            s.push_str(if e.output_group() == g { "1\n" } else { "0\n" });
+        }
+    }
     s
+}
+
+/// The groups that are not an input loop's or line's: tags and crack
+/// faces, in the order of `Mesh::groups`, those with edges.
+fn named_groups(mesh: &Mesh) -> Vec<u32> {
+    let mut used: Vec<u32> = mesh.boundary.iter().filter_map(|e| e.tag).collect();
+    used.sort_unstable();
+    used.dedup();
+    used
 }
 
 /// An SVG picture: quads outlined, those with a corner outside [45, 135]
@@ -338,23 +418,45 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
     s
 }
 
-/// JSON: name, nodes, quads (0-based ids), boundary edges with groups;
-/// second order: `nodes` holds the added nodes after the corners, and
-/// `elements` each element's 8 or 9 nodes (`element_type` `quad8` or
-/// `quad9`), `quads` still the corners.
+/// JSON: name, nodes, quads (0-based ids), boundary edges with their
+/// groups (a tagged edge's group is its tag's, and it names its loop or
+/// line as `on`), the group names; where lines part the domain,
+/// `regions`: each quad's region, numbered from 1; second order: `nodes`
+/// holds the added nodes after the corners, and `elements` each element's
+/// 8 or 9 nodes (`element_type` `quad8` or `quad9`), `quads` still the
+/// corners.
 pub fn to_json(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
     let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
+    let boundary: Vec<serde_json::Value> = mesh
+        .boundary
+        .iter()
+        .map(|e| {
+            let group = &mesh.groups[e.output_group() as usize];
+            match e.tag {
+                None => serde_json::json!({"nodes": [e.a, e.b], "group": group}),
+                Some(_) => serde_json::json!({"nodes": [e.a, e.b], "group": group, "on": mesh.groups[e.group as usize]}),
+            }
+        })
+        .collect();
     let mut v = serde_json::json!({
         "name": name,
         "nodes": mesh.nodes.iter().chain(extra).map(|p| [p.x, p.y]).collect::<Vec<_>>(),
         "quads": mesh.quads,
-        "boundary": mesh.boundary.iter().map(|e| serde_json::json!({"nodes": [e.a, e.b], "group": mesh.groups[e.group as usize]})).collect::<Vec<_>>(),
+        "boundary": boundary,
         "groups": mesh.groups,
     });
     if let Some(so) = second {
         let per = so.kind.nodes();
         v["element_type"] = format!("quad{per}").into();
         v["elements"] = so.elements.chunks_exact(per).collect::<Vec<_>>().into();
+    }
+    if mesh.region_count() > 1 {
+        v["regions"] = mesh
+            .regions
+            .iter()
+            .map(|r| r + 1)
+            .collect::<Vec<_>>()
+            .into();
     }
     serde_json::to_string(&v).unwrap_or_default()
 }

@@ -426,6 +426,7 @@ impl<'k> Mesher<'k> {
         let made = self.pm.front.replace_path(a, b, &mid, layer);
         // split at merged corners
         let mut ok = true;
+        let mut parted = false;
         for q in el.iter().skip(2) {
             let QNode::Merged(target) = *q else { continue };
             let node = self.pm.front.node(target);
@@ -440,6 +441,18 @@ impl<'k> Mesher<'k> {
                 break;
             }
             self.pm.front.split_pinch(occ, target);
+            parted = true;
+        }
+        // a merge parts the loop into two regions side by side, never a
+        // hole's ring on its own (a loop round no area); see
+        // `PartialMesh::guard_loop_areas`
+        if ok && parted && self.pm.guard_loop_areas {
+            ok = self
+                .pm
+                .front
+                .touched_loops()
+                .iter()
+                .all(|&l| self.pm.loop_area(l) > 0.0);
         }
         if ok {
             for l in self.pm.front.touched_loops() {
@@ -570,8 +583,9 @@ mod tests {
         }
         let disc = Discretised {
             mesh,
-            front_loop,
+            front_loops: vec![front_loop],
             cuts: vec![],
+            lines_meet: false,
         };
         Mesher::new(kb, disc, size, area).unwrap()
     }

@@ -1,0 +1,270 @@
+//! The geometry of a domain's boundary: an edge is a straight segment or
+//! a circular arc (`Curve`); edges make loops and lines (`Chain`).
+
+use glam::DVec2;
+use std::f64::consts::PI;
+
+/// One edge of a loop or line: a straight segment or a circular arc.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Curve {
+    /// Straight edge from `a` to `b`.
+    Line {
+        /// Start point.
+        a: DVec2,
+        /// End point.
+        b: DVec2,
+    },
+    /// Circular arc from `a` to `b` with the DXF bulge tan(sweep/4),
+    /// positive counter-clockwise.
+    Arc {
+        /// Start point.
+        a: DVec2,
+        /// End point.
+        b: DVec2,
+        /// tan(sweep / 4), signed.
+        bulge: f64,
+    },
+    /// A full circle (a loop by itself), traversed counter-clockwise from
+    /// angle 0.
+    Circle {
+        /// Centre.
+        center: DVec2,
+        /// Radius.
+        radius: f64,
+    },
+}
+
+impl Curve {
+    /// Centre, radius, start angle and signed sweep of an arc.
+    pub(crate) fn arc_frame(a: DVec2, b: DVec2, bulge: f64) -> (DVec2, f64, f64, f64) {
+        let sweep = 4.0 * bulge.atan();
+        let half = (b - a).length() / 2.0;
+        let d = (b - a) / (2.0 * half);
+        let left = DVec2::new(-d.y, d.x);
+        let c = (a + b) / 2.0 + left * half * (1.0 - bulge * bulge) / (2.0 * bulge);
+        let r = (a - c).length();
+        let a0 = (a.y - c.y).atan2(a.x - c.x);
+        (c, r, a0, sweep)
+    }
+
+    /// Length of the curve.
+    pub fn length(&self) -> f64 {
+        match *self {
+            Curve::Line { a, b } => (b - a).length(),
+            Curve::Arc { a, b, bulge } => {
+                let (_, r, _, sweep) = Self::arc_frame(a, b, bulge);
+                r * sweep.abs()
+            }
+            Curve::Circle { radius, .. } => 2.0 * PI * radius,
+        }
+    }
+
+    /// The point at parameter `t` in [0, 1] (uniform in arc length).
+    pub fn point_at(&self, t: f64) -> DVec2 {
+        match *self {
+            // the end itself, not a + (b - a) * 1 (which may be off by an
+            // ulp): a line that ends where another begins meets it exactly
+            Curve::Line { b, .. } if t >= 1.0 => b,
+            Curve::Line { a, b } => a + (b - a) * t,
+            Curve::Arc { a, b, bulge } => {
+                if t <= 0.0 {
+                    return a;
+                }
+                if t >= 1.0 {
+                    return b;
+                }
+                let (c, r, a0, sweep) = Self::arc_frame(a, b, bulge);
+                let ang = a0 + sweep * t;
+                c + r * DVec2::new(ang.cos(), ang.sin())
+            }
+            Curve::Circle { center, radius } => {
+                let ang = 2.0 * PI * t;
+                center + radius * DVec2::new(ang.cos(), ang.sin())
+            }
+        }
+    }
+
+    /// Projects `p` onto the curve: the closest point on it.
+    pub fn project(&self, p: DVec2) -> DVec2 {
+        match *self {
+            Curve::Line { a, b } => {
+                let d = b - a;
+                let t = ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+                a + d * t
+            }
+            Curve::Circle { center, radius } => {
+                let v = p - center;
+                if v.length() < 1e-300 {
+                    return center + DVec2::new(radius, 0.0);
+                }
+                center + v.normalize() * radius
+            }
+            Curve::Arc { a, b, bulge } => {
+                let (c, r, a0, sweep) = Self::arc_frame(a, b, bulge);
+                let ang = (p.y - c.y).atan2(p.x - c.x);
+                let mut rel = (ang - a0) * sweep.signum();
+                rel = rel.rem_euclid(2.0 * PI);
+                if rel <= sweep.abs() {
+                    let t = a0 + rel * sweep.signum();
+                    c + r * DVec2::new(t.cos(), t.sin())
+                } else if (p - a).length() < (p - b).length() {
+                    a
+                } else {
+                    b
+                }
+            }
+        }
+    }
+
+    /// `n` segments of (about) equal length: n+1 points, ends included
+    /// (a circle: n points, the first not repeated).
+    pub fn divide(&self, n: usize) -> Vec<DVec2> {
+        match self {
+            Curve::Circle { .. } => (0..n).map(|k| self.point_at(k as f64 / n as f64)).collect(),
+            _ => (0..=n)
+                .map(|k| self.point_at(k as f64 / n as f64))
+                .collect(),
+        }
+    }
+
+    /// The signed area contribution (shoelace term plus the arc's segment).
+    pub fn signed_area_term(&self) -> f64 {
+        match *self {
+            Curve::Line { a, b } => 0.5 * a.perp_dot(b),
+            Curve::Arc { a, b, bulge } => {
+                let (_, r, _, sweep) = Self::arc_frame(a, b, bulge);
+                0.5 * a.perp_dot(b)
+                    + 0.5 * r * r * (sweep.abs() - sweep.abs().sin()) * sweep.signum()
+            }
+            Curve::Circle { radius, .. } => PI * radius * radius,
+        }
+    }
+}
+
+/// An edge of a loop or line with its optional fixed segment count and tag.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    /// The geometry of the edge.
+    pub curve: Curve,
+    /// Exact segment count, if the file fixes it.
+    pub segments: Option<usize>,
+    /// The edge's tag, an index into `Domain::tags` (format 1.1).
+    pub tag: Option<u32>,
+}
+
+/// A closed loop (outer boundary or hole) or an open inner line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    /// Its edges in order.
+    pub edges: Vec<Edge>,
+    /// Where it came from in the file, e.g. `holes[1]`, for messages.
+    pub label: String,
+    /// A line with `"crack": true`: the mesh is cut open along it.
+    pub crack: bool,
+}
+
+impl Chain {
+    /// Signed area enclosed (counter-clockwise positive); closed loops only.
+    pub fn signed_area(&self) -> f64 {
+        self.edges.iter().map(|e| e.curve.signed_area_term()).sum()
+    }
+}
+
+/// The vertices of a chain: each edge's start, and a line's last point
+/// (a circle has none).
+pub(crate) fn chain_vertices(c: &Chain) -> Vec<DVec2> {
+    let mut out: Vec<DVec2> = c
+        .edges
+        .iter()
+        .filter_map(|e| match e.curve {
+            Curve::Line { a, .. } | Curve::Arc { a, .. } => Some(a),
+            Curve::Circle { .. } => None,
+        })
+        .collect();
+    if let Some(Curve::Line { b, .. } | Curve::Arc { b, .. }) = c.edges.last().map(|e| e.curve) {
+        // a loop's last edge ends where its first starts
+        if out.first() != Some(&b) {
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// The first (or, `at_end`, the last) point of a line.
+pub(crate) fn line_end(line: &Chain, at_end: bool) -> DVec2 {
+    let e = if at_end {
+        line.edges.last()
+    } else {
+        line.edges.first()
+    };
+    match e.map(|e| e.curve) {
+        Some(Curve::Line { a, b } | Curve::Arc { a, b, .. }) => {
+            if at_end {
+                b
+            } else {
+                a
+            }
+        }
+        _ => DVec2::ZERO,
+    }
+}
+
+/// Moves the first (or last) point of a line to `p`.
+pub(crate) fn set_line_end(line: &mut Chain, at_end: bool, p: DVec2) {
+    let e = if at_end {
+        line.edges.last_mut()
+    } else {
+        line.edges.first_mut()
+    };
+    if let Some(Edge {
+        curve: Curve::Line { a, b } | Curve::Arc { a, b, .. },
+        ..
+    }) = e
+    {
+        if at_end {
+            *b = p;
+        } else {
+            *a = p;
+        }
+    }
+}
+
+/// A curve cut in two at a point `p` on it (or within the tolerance of
+/// it); a circle becomes two half circles from `p` and back.
+pub(crate) fn split_curve(c: Curve, p: DVec2) -> (Curve, Curve) {
+    match c {
+        Curve::Line { a, b } => (Curve::Line { a, b: p }, Curve::Line { a: p, b }),
+        Curve::Arc { a, b, bulge } => {
+            let (centre, _, a0, sweep) = Curve::arc_frame(a, b, bulge);
+            let ang = (p.y - centre.y).atan2(p.x - centre.x);
+            let first = ((ang - a0) * sweep.signum()).rem_euclid(2.0 * PI) * sweep.signum();
+            (
+                Curve::Arc {
+                    a,
+                    b: p,
+                    bulge: (first / 4.0).tan(),
+                },
+                Curve::Arc {
+                    a: p,
+                    b,
+                    bulge: ((sweep - first) / 4.0).tan(),
+                },
+            )
+        }
+        Curve::Circle { center, .. } => {
+            let opposite = 2.0 * center - p;
+            (
+                Curve::Arc {
+                    a: p,
+                    b: opposite,
+                    bulge: 1.0,
+                },
+                Curve::Arc {
+                    a: opposite,
+                    b: p,
+                    bulge: 1.0,
+                },
+            )
+        }
+    }
+}
