@@ -36,6 +36,12 @@ strategy([b4, b5, b3, b2, b1]).
 % near_node: a new corner closer than this fraction of the element size
 %   to a front node is merged with it (the fronts meet).
 % redesign_rounds: how many redesign rules may fire on one element.
+% max_aspect, max_taper: the largest aspect ratio and taper of a good
+%   element; with the corner window, what smoothing and clean-up aim
+%   for (lower_corner and upper_corner too, and the summary reports the
+%   share of elements with every corner in [lower_corner, upper_corner]).
+% max_size_jump: the largest size jump between neighbours (the square
+%   root of their area ratio) that smoothing and clean-up leave alone.
 bound(upper_corner, 135).
 bound(lower_corner, 45).
 bound(b2_side, 160).
@@ -44,3 +50,6 @@ bound(near_vertical, 0.45).
 bound(near_horizontal, 0.3).
 bound(near_node, 0.5).
 bound(redesign_rounds, 4).
+bound(max_aspect, 10).
+bound(max_taper, 10).
+bound(max_size_jump, 2).

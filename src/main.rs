@@ -134,8 +134,8 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
     )?;
     writeln!(
         out,
-        "angles {:.1}..{:.1} deg, {:.1}% of quads in [45, 135]",
-        q.min_angle, q.max_angle, q.pct_45_135
+        "angles {:.1}..{:.1} deg, {:.1}% of quads in [{}, {}]",
+        q.min_angle, q.max_angle, q.pct_45_135, q.corner_window[0], q.corner_window[1]
     )?;
     writeln!(
         out,
@@ -407,13 +407,15 @@ fn mesh_one(
     let q = &result.quality;
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
-        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
+        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}, {:.3} s",
         domain.name,
         result.mesh.nodes.len(),
         q.quads,
         q.min_angle,
         q.max_angle,
         q.pct_45_135,
+        q.corner_window[0],
+        q.corner_window[1],
         result.stats.fallback_splits,
         if result.stats.triangle_fallbacks > 0 {
             " (the rules stopped: meshed whole by the triangle fallback)"

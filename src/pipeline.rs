@@ -19,6 +19,7 @@ use crate::recursion::{MeshError, Mesher, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
 use crate::report::trace::TraceStep;
+use crate::settings::ElementBounds;
 use crate::smoothing;
 
 /// How many times at most the clean-up and the smoothing round its
@@ -336,6 +337,7 @@ impl<'k> Run<'k> {
         let reason = match self.stopped.take() {
             Some(reason) => reason,
             None => {
+                let bounds = self.mesher.settings().element;
                 let (mesh, trace, stats, area) = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
                 match finish_mesh(
@@ -343,6 +345,7 @@ impl<'k> Run<'k> {
                     trace,
                     stats,
                     area,
+                    &bounds,
                     &self.opts,
                     self.kb_before,
                     kb_after,
@@ -397,11 +400,13 @@ impl<'k> Run<'k> {
         let area = boundary_area(&mesh, 1 + self.domain.holes.len() as u32);
         // the rules' attempt and the fallback count as the recursion
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
+        let bounds = self.mesher.settings().element;
         let mut r = finish_mesh(
             mesh,
             trace,
             stats,
             area,
+            &bounds,
             &self.opts,
             self.kb_before,
             kb_stats,
@@ -448,6 +453,7 @@ fn finish_mesh(
     mut trace: Vec<TraceStep>,
     mut stats: MeshStats,
     area: f64,
+    bounds: &ElementBounds,
     opts: &Options,
     kb_before: KbStats,
     kb_after: KbStats,
@@ -455,7 +461,7 @@ fn finish_mesh(
     check::check_boundary_followed(&mesh)?;
     compact_with_trace(&mut mesh, &mut trace);
     let t0 = Instant::now();
-    smoothing::smooth(&mut mesh, opts.smoothing_passes);
+    smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds);
     // where smoothing could not reach the bounds: the elements joined
     // up anew and the nodes round the changes smoothed again, a few
     // times while that changes something (the smoothing after a change
@@ -463,14 +469,14 @@ fn finish_mesh(
     let mut any_collapse = false;
     let mut last_changes: Option<Vec<u32>> = None;
     for _ in 0..CLEANUP_ROUNDS {
-        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref());
+        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref(), bounds);
         stats.cleanup_flips += cleaned.flips;
         stats.cleanup_collapses += cleaned.collapses;
         any_collapse |= cleaned.collapses > 0;
         if touched.is_empty() {
             break;
         }
-        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
+        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
         last_changes = Some(touched);
     }
     if any_collapse {
@@ -480,7 +486,7 @@ fn finish_mesh(
     // both only read the mesh: side by side
     let (checked, quality) = std::thread::scope(|scope| {
         let checked = scope.spawn(|| check::check_mesh(&mesh, area));
-        let quality = quality::measure(&mesh);
+        let quality = quality::measure_within(&mesh, bounds);
         let checked = checked
             .join()
             .unwrap_or_else(|e| std::panic::resume_unwind(e));

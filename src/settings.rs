@@ -12,12 +12,16 @@ pub struct Settings {
     /// How many times at most the redesign rules correct one element
     /// (`bound(redesign_rounds, N)`).
     pub redesign_rounds: usize,
+    /// The bounds an element is judged by after the recursion: what
+    /// smoothing and clean-up aim for and what the summary reports.
+    pub element: ElementBounds,
 }
 
 impl Settings {
     /// The settings of a strategy (feature names in the order they are
-    /// tried) and a number of redesign rounds (negative: none).
-    pub fn new(strategy: Vec<String>, redesign_rounds: f64) -> Settings {
+    /// tried), a number of redesign rounds (negative: none) and the
+    /// element bounds.
+    pub fn new(strategy: Vec<String>, redesign_rounds: f64, element: ElementBounds) -> Settings {
         let rank = strategy
             .into_iter()
             .enumerate()
@@ -26,6 +30,7 @@ impl Settings {
         Settings {
             rank,
             redesign_rounds: redesign_rounds.max(0.0) as usize,
+            element,
         }
     }
 
@@ -33,5 +38,148 @@ impl Settings {
     /// list comes after every listed one.
     pub fn rank(&self, feature: &str) -> u32 {
         *self.rank.get(feature).unwrap_or(&u32::MAX)
+    }
+}
+
+/// The bounds on an element's corners, shape and size against its
+/// neighbours (`bound(lower_corner, _)`, `upper_corner`, `max_aspect`,
+/// `max_taper`, `max_size_jump`): the targets of smoothing and clean-up,
+/// and the window the quality summary counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElementBounds {
+    /// The smallest good corner (degrees, below 90).
+    pub lower_corner: f64,
+    /// The largest good corner (degrees, above 90).
+    pub upper_corner: f64,
+    /// The largest good aspect ratio.
+    pub max_aspect: f64,
+    /// The largest good taper.
+    pub max_taper: f64,
+    /// The largest good size jump between neighbours (square root of
+    /// their area ratio).
+    pub max_size_jump: f64,
+    /// cos² of the lower corner, for telling a corner inside the window
+    /// without trigonometry (rounded to 1e-12, so 45 degrees gives 0.5
+    /// exactly).
+    pub cos2_lower: f64,
+    /// cos² of the upper corner, likewise.
+    pub cos2_upper: f64,
+}
+
+impl Default for ElementBounds {
+    /// The paper's bounds: corners in [45, 135], aspect ratio and taper
+    /// 10, size jump 2.
+    fn default() -> ElementBounds {
+        ElementBounds::new(45.0, 135.0, 10.0, 10.0, 2.0)
+            .expect("the built-in element bounds are consistent")
+    }
+}
+
+impl ElementBounds {
+    /// The bounds, or a sentence saying which is out of range: the corner
+    /// window must hold a right angle (0 < lower < 90 < upper < 180), the
+    /// others be at least 1.
+    pub fn new(
+        lower_corner: f64,
+        upper_corner: f64,
+        max_aspect: f64,
+        max_taper: f64,
+        max_size_jump: f64,
+    ) -> Result<ElementBounds, String> {
+        if !(lower_corner > 0.0 && lower_corner < 90.0) {
+            return Err(format!(
+                "bound(lower_corner, {lower_corner}) must be above 0 and below 90"
+            ));
+        }
+        if !(upper_corner > 90.0 && upper_corner < 180.0) {
+            return Err(format!(
+                "bound(upper_corner, {upper_corner}) must be above 90 and below 180"
+            ));
+        }
+        for (name, v) in [
+            ("max_aspect", max_aspect),
+            ("max_taper", max_taper),
+            ("max_size_jump", max_size_jump),
+        ] {
+            if !(v >= 1.0 && v.is_finite()) {
+                return Err(format!("bound({name}, {v}) must be a number of at least 1"));
+            }
+        }
+        let cos2 = |deg: f64| {
+            let c = deg.to_radians().cos();
+            (c * c * 1e12).round() / 1e12
+        };
+        Ok(ElementBounds {
+            lower_corner,
+            upper_corner,
+            max_aspect,
+            max_taper,
+            max_size_jump,
+            cos2_lower: cos2(lower_corner),
+            cos2_upper: cos2(upper_corner),
+        })
+    }
+
+    /// True iff a corner whose edge vectors have dot product `d` and
+    /// squared lengths `aa`, `bb` (convex) is inside the window, as
+    /// `d² <= cos² · aa · bb` on the side of a right angle it is on.
+    pub fn corner_inside(&self, d: f64, aa: f64, bb: f64) -> bool {
+        let c2 = if d > 0.0 {
+            self.cos2_lower
+        } else {
+            self.cos2_upper
+        };
+        d * d <= c2 * (aa * bb)
+    }
+
+    /// True iff a corner is clearly inside the window: as `corner_inside`
+    /// with a margin, so that measuring its angle would say the same.
+    pub fn corner_clearly_inside(&self, d: f64, aa: f64, bb: f64) -> bool {
+        let c2 = if d > 0.0 {
+            self.cos2_lower
+        } else {
+            self.cos2_upper
+        };
+        d * d < c2 * ((1.0 - 1e-9) * aa * bb)
+    }
+
+    /// How far a corner (degrees) is outside the window (0 inside).
+    pub fn corner_excess(&self, angle: f64) -> f64 {
+        (self.lower_corner - angle)
+            .max(angle - self.upper_corner)
+            .max(0.0)
+    }
+
+    /// True iff a corner (degrees) is inside the window.
+    pub fn corner_in_window(&self, angle: f64) -> bool {
+        (self.lower_corner..=self.upper_corner).contains(&angle)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_window_has_cos_squared_one_half_on_both_sides() {
+        let b = ElementBounds::default();
+        assert_eq!(b.cos2_lower, 0.5);
+        assert_eq!(b.cos2_upper, 0.5);
+    }
+
+    #[test]
+    fn a_narrower_window_puts_a_corner_of_48_degrees_outside() {
+        let b = ElementBounds::new(50.0, 130.0, 10.0, 10.0, 2.0).unwrap();
+        let c = 48f64.to_radians();
+        // edge vectors (1, 0) and (cos c, sin c)
+        assert!(!b.corner_inside(c.cos(), 1.0, 1.0));
+        assert!(ElementBounds::default().corner_inside(c.cos(), 1.0, 1.0));
+        assert_eq!(b.corner_excess(48.0), 2.0);
+    }
+
+    #[test]
+    fn a_window_without_a_right_angle_is_refused() {
+        let e = ElementBounds::new(95.0, 135.0, 10.0, 10.0, 2.0).unwrap_err();
+        assert!(e.contains("lower_corner"), "{e}");
     }
 }

@@ -133,6 +133,11 @@ impl<'k> Mesher<'k> {
         self.pm.stats
     }
 
+    /// The settings in force, as read from the KB.
+    pub fn settings(&self) -> &Settings {
+        &self.set
+    }
+
     /// Whether steps are recorded in the trace (they are always counted).
     pub fn set_record_trace(&mut self, on: bool) {
         self.pm.record_trace = on;
