@@ -9,7 +9,7 @@ use crate::features::deg_round;
 use crate::geometry::{orient2d, quad_angles};
 use crate::kb::{KbError, KnowledgeBase, PatternKind};
 use crate::partial_mesh::PartialMesh;
-use crate::report::trace::Angles;
+use crate::report::trace::{Angles, By};
 use crate::validity::{convex_ok, distinct, quad_clear};
 
 /// Closes loop `l` if it has four or six segments and a pattern fits;
@@ -44,7 +44,15 @@ pub fn try_close_loop(
             )
         {
             let quad = [ids[0], ids[1], ids[2], ids[3]];
-            pm.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
+            pm.close_with(
+                l,
+                vec![quad],
+                &[],
+                "final4",
+                "quad".into(),
+                angle_map,
+                By::Pattern,
+            );
             return Ok(true);
         }
         return Ok(false);
@@ -93,7 +101,15 @@ pub fn try_close_loop(
                 .iter()
                 .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
                 .collect();
-            pm.close_with(l, quads_ids, &new_pts, "final6", pat.text, angle_map);
+            pm.close_with(
+                l,
+                quads_ids,
+                &new_pts,
+                "final6",
+                pat.text,
+                angle_map,
+                By::Pattern,
+            );
             return Ok(true);
         }
     }

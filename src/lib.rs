@@ -55,4 +55,4 @@ pub use pipeline::{
 pub use recursion::MeshError;
 pub use repl::{Flow, Repl};
 pub use report::quality::{angle_bins, angle_histogram, measure as measure_quality, Quality};
-pub use report::trace::TraceStep;
+pub use report::trace::{json_lines as trace_json_lines, By, TraceStep, Veto};

@@ -396,18 +396,14 @@ fn mesh_one(
         .map(|(p, f)| (p.clone(), render(&result.mesh, &domain.name, *f)))
         .collect();
     if let Some(t) = trace_path {
-        let mut text = String::new();
-        for step in &result.trace {
-            text.push_str(&step.to_json_line());
-            text.push('\n');
-        }
+        let text = freemesh::trace_json_lines(&result.trace, &result.vetoes);
         files.push((t.to_path_buf(), text));
     }
     write_all(&files).context("writing the outputs")?;
     let q = &result.quality;
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
-        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}, {:.3} s",
+        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}, {:.3} s; made {}",
         domain.name,
         result.mesh.nodes.len(),
         q.quads,
@@ -422,7 +418,8 @@ fn mesh_one(
         } else {
             ""
         },
-        elapsed
+        elapsed,
+        result.stats.made_by_text()
     );
     if args.stats {
         let k = &result.kb_stats;
@@ -446,6 +443,11 @@ fn mesh_one(
                 k.second_engine_time.as_secs_f64()
             );
         }
+        eprintln!(
+            "{}: elements made {} (validity checks that refused a design)",
+            domain.name,
+            result.stats.made_by_text()
+        );
         eprintln!(
             "{}: clean-up {} edge flips, {} element collapses",
             domain.name, result.stats.cleanup_flips, result.stats.cleanup_collapses

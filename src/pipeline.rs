@@ -18,7 +18,7 @@ use crate::partial_mesh::MeshStats;
 use crate::recursion::{MeshError, Mesher, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
-use crate::report::trace::TraceStep;
+use crate::report::trace::{By, TraceStep, Veto};
 use crate::settings::ElementBounds;
 use crate::smoothing;
 
@@ -99,6 +99,9 @@ pub struct MeshResult {
     pub mesh: Mesh,
     /// The inference trace.
     pub trace: Vec<TraceStep>,
+    /// The designs the validity check refused, in order (kept with the
+    /// trace; counted in `stats.vetoes` always).
+    pub vetoes: Vec<Veto>,
     /// Counters of the recursion.
     pub stats: MeshStats,
     /// Quality figures.
@@ -393,6 +396,7 @@ impl<'k> Run<'k> {
             angles: Default::default(),
             feature: "stuck".into(),
             action: format!("triangle_split({})", mesh.quads.len()),
+            by: By::Triangles,
             redesign: vec![reason],
             element: vec![],
         }];
@@ -401,9 +405,11 @@ impl<'k> Run<'k> {
         // the rules' attempt and the fallback count as the recursion
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let bounds = self.mesher.settings().element;
+        stats.triangle_elements = mesh.quads.len();
+        // the rules' attempt is gone: its vetoes with it (still counted)
         let mut r = finish_mesh(
             mesh,
-            trace,
+            (trace, Vec::new()),
             stats,
             area,
             &bounds,
@@ -428,7 +434,7 @@ fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
 
 /// Drops the nodes no element uses; the trace's node ids follow (-1 for
 /// a node that is gone).
-fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
+fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Veto]) {
     let map = mesh.compact();
     let remap = |x: i64| {
         if x < 0 {
@@ -445,12 +451,15 @@ fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
             *n = remap(*n);
         }
     }
+    for v in vetoes {
+        v.edge = v.edge.map(remap);
+    }
 }
 
 /// The stages after the recursion: smoothing, clean-up, check, quality.
 fn finish_mesh(
     mut mesh: Mesh,
-    mut trace: Vec<TraceStep>,
+    (mut trace, mut vetoes): (Vec<TraceStep>, Vec<Veto>),
     mut stats: MeshStats,
     area: f64,
     bounds: &ElementBounds,
@@ -459,7 +468,7 @@ fn finish_mesh(
     kb_after: KbStats,
 ) -> Result<MeshResult, Error> {
     check::check_boundary_followed(&mesh)?;
-    compact_with_trace(&mut mesh, &mut trace);
+    compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     let t0 = Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds);
     // where smoothing could not reach the bounds: the elements joined
@@ -480,7 +489,7 @@ fn finish_mesh(
         last_changes = Some(touched);
     }
     if any_collapse {
-        compact_with_trace(&mut mesh, &mut trace);
+        compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }
     let smoothing = t0.elapsed().as_secs_f64();
     // both only read the mesh: side by side
@@ -507,6 +516,7 @@ fn finish_mesh(
     Ok(MeshResult {
         mesh,
         trace,
+        vetoes,
         stats,
         quality,
         kb_stats,

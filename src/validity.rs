@@ -22,6 +22,41 @@ const COS_4_SQUARED: f64 = 0.995_134_034_370_785_1;
 /// (deg): a spike cannot be meshed.
 pub const MIN_FRONT_ANGLE: f64 = 12.0;
 
+/// Why the validity check refused an element (recorded in the trace as a
+/// veto, see report/trace.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Vetoed {
+    /// Not convex, or two corners at one node.
+    NotConvex,
+    /// A corner outside [4, 176] degrees.
+    Corner,
+    /// An edge shorter than a quarter of the base edge or the run's
+    /// minimum.
+    ShortEdge,
+    /// A front edge crosses it, a front node is inside it, or a new
+    /// corner or edge comes too close to the front.
+    Front,
+    /// Committing it would leave a loop odd or degenerate, or the
+    /// remaining domain a spike (a corner under `MIN_FRONT_ANGLE`).
+    Loop,
+    /// An action the host cannot place as an element here.
+    NotPlaceable,
+}
+
+impl Vetoed {
+    /// Its name in the trace.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Vetoed::NotConvex => "not_convex",
+            Vetoed::Corner => "corner_outside_4_176",
+            Vetoed::ShortEdge => "short_edge",
+            Vetoed::Front => "front_crossed_or_too_close",
+            Vetoed::Loop => "odd_loop_or_spike",
+            Vetoed::NotPlaceable => "not_placeable",
+        }
+    }
+}
+
 /// Counter-clockwise corner positions of an element.
 fn ccw(front: &Front, nodes: &[DVec2], q: &[QNode; 4], mirrored: bool) -> [DVec2; 4] {
     let p = q.map(|x| qpos(front, nodes, x));
@@ -36,8 +71,8 @@ fn ccw(front: &Front, nodes: &[DVec2], q: &[QNode; 4], mirrored: bool) -> [DVec2
 /// `mirrored` for the reading against the loop): a convex element with
 /// corners in [4, 176] degrees, every edge at least a quarter of the
 /// base edge and the run's minimum, and clear of the front (see
-/// `quad_clear`, with a gap of 0.15 of the base edge).
-pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bool {
+/// `quad_clear`, with a gap of 0.15 of the base edge). Err says why not.
+pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> Result<(), Vetoed> {
     let p = ccw(&pm.front, &pm.mesh.nodes, q, mirrored);
     let ids: Vec<Option<u32>> = {
         let v = q.map(|x| qnode_id(&pm.front, x));
@@ -49,11 +84,11 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bo
     };
     for i in 0..4 {
         if orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]) <= 0.0 {
-            return false;
+            return Err(Vetoed::NotConvex);
         }
         if let (Some(a), Some(b)) = (ids[i], ids[(i + 1) % 4]) {
             if a == b {
-                return false;
+                return Err(Vetoed::NotConvex);
             }
         }
     }
@@ -66,16 +101,20 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bo
         d * d < COS_4_SQUARED * (1.0 - 1e-9) * a.length_squared() * b.length_squared()
     });
     if !clearly_open && quad_angles(p).iter().any(|&a| !(4.0..=176.0).contains(&a)) {
-        return false;
+        return Err(Vetoed::Corner);
     }
     // No sliver: every edge at least a quarter of the base edge, so a
     // rule that keeps shrinking an element cannot run away.
     let pos = |x| qpos(&pm.front, &pm.mesh.nodes, x);
     let base = (pos(q[1]) - pos(q[0])).length();
     if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (0.25 * base).max(pm.min_edge)) {
-        return false;
+        return Err(Vetoed::ShortEdge);
     }
-    quad_clear(pm, p, &ids, 0.15 * base)
+    if quad_clear(pm, p, &ids, 0.15 * base) {
+        Ok(())
+    } else {
+        Err(Vetoed::Front)
+    }
 }
 
 /// True iff no front edge crosses the element `p` (counter-clockwise;
