@@ -82,7 +82,7 @@ pub fn try_close_loop(
                 ];
                 // where Eq. 5/6 gives a bad element, the builtin moves the
                 // node to the best place it finds in the loop
-                let c = best_centre(&p, &quads, c);
+                let c = best_centre(&p, &quads, c, pm.host.centre_search_below);
                 (quads, vec![c])
             }
         };
@@ -119,7 +119,7 @@ pub fn try_close_loop(
 /// The position of an inner node (index 6 in `quads`) that makes the
 /// elements convex with the largest smallest angle: `first` if it is good,
 /// else the best of a grid over the loop's bounding box.
-fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
+fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2, search_below: f64) -> DVec2 {
     // the smallest angle of the elements, or a value at most `floor` as
     // soon as one shows the place no better than that
     let score = |c: DVec2, floor: f64| -> f64 {
@@ -141,7 +141,7 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
         worst
     };
     let mut best = (score(first, f64::NEG_INFINITY), first);
-    if best.0 >= 30.0 {
+    if best.0 >= search_below {
         return first;
     }
     let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));

@@ -12,6 +12,7 @@ use crate::geometry::{orient2d, segments_intersect, SegmentRelation};
 use crate::input::boundary::Discretised;
 use crate::mesh::{Mesh, NodeKind};
 use crate::report::trace::{Angles, By, TraceStep, Veto};
+use crate::settings::HostBounds;
 
 /// Counters of one meshing run.
 #[derive(Debug, Default, Clone, Copy)]
@@ -82,6 +83,8 @@ pub struct PartialMesh {
     pub front: Front,
     /// The inference trace (kept when `record_trace`).
     pub trace: Vec<TraceStep>,
+    /// The host's thresholds (`bound/2`, see settings.rs).
+    pub host: HostBounds,
     /// The designs the validity check refused (kept when `record_trace`).
     pub vetoes: Vec<Veto>,
     /// Whether steps are recorded in `trace` (they are always counted).
@@ -138,6 +141,7 @@ impl PartialMesh {
             front,
             trace: Vec::new(),
             vetoes: Vec::new(),
+            host: HostBounds::default(),
             record_trace: true,
             steps: 0,
             stats: MeshStats::default(),

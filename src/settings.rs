@@ -15,13 +15,20 @@ pub struct Settings {
     /// The bounds an element is judged by after the recursion: what
     /// smoothing and clean-up aim for and what the summary reports.
     pub element: ElementBounds,
+    /// The thresholds the host applies in the recursion.
+    pub host: HostBounds,
 }
 
 impl Settings {
     /// The settings of a strategy (feature names in the order they are
     /// tried), a number of redesign rounds (negative: none) and the
     /// element bounds.
-    pub fn new(strategy: Vec<String>, redesign_rounds: f64, element: ElementBounds) -> Settings {
+    pub fn new(
+        strategy: Vec<String>,
+        redesign_rounds: f64,
+        element: ElementBounds,
+        host: HostBounds,
+    ) -> Settings {
         let rank = strategy
             .into_iter()
             .enumerate()
@@ -31,6 +38,7 @@ impl Settings {
             rank,
             redesign_rounds: redesign_rounds.max(0.0) as usize,
             element,
+            host,
         }
     }
 
@@ -156,6 +164,101 @@ impl ElementBounds {
     }
 }
 
+/// The thresholds the host applies during the recursion, each a
+/// `bound/2` entry of kb/strategy.pl (the names below): the validity
+/// check before commit, which relations redesign is shown, and when a
+/// final pattern's inner node is searched for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostBounds {
+    /// `valid_corner`: an element's corners must be in [this, 180 - this]
+    /// degrees.
+    pub valid_corner: f64,
+    /// cos² of `valid_corner`, for telling a corner inside without
+    /// trigonometry.
+    pub cos2_valid_corner: f64,
+    /// `valid_edge`: the shortest element edge, as a share of the edge it
+    /// is built on.
+    pub valid_edge: f64,
+    /// `valid_clearance`: how close a new corner or edge may come to the
+    /// front, as a share of the edge it is built on.
+    pub valid_clearance: f64,
+    /// `min_front_angle`: the sharpest corner an element may leave the
+    /// remaining domain (degrees).
+    pub min_front_angle: f64,
+    /// `relation_corner`: an outer, remaining or inner corner below this
+    /// (degrees) is a relation redesign is shown.
+    pub relation_corner: f64,
+    /// `relation_inner_above`: an inner corner above this (degrees) is a
+    /// relation too.
+    pub relation_inner_above: f64,
+    /// `relation_reach`: front nodes and segments within this many
+    /// element sizes of a new corner are relations.
+    pub relation_reach: f64,
+    /// `centre_search_below`: a final pattern's inner node (Eq. 5, 6)
+    /// whose elements have a corner closer than this to 0 or 180 degrees
+    /// is moved to the best place of a search.
+    pub centre_search_below: f64,
+}
+
+impl Default for HostBounds {
+    /// The built-in values (kb/strategy.pl).
+    fn default() -> HostBounds {
+        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0])
+            .expect("the built-in host bounds are consistent")
+    }
+}
+
+impl HostBounds {
+    /// The names of the `bound/2` entries, in the order `new` takes them.
+    pub const NAMES: [&'static str; 8] = [
+        "valid_corner",
+        "valid_edge",
+        "valid_clearance",
+        "min_front_angle",
+        "relation_corner",
+        "relation_inner_above",
+        "relation_reach",
+        "centre_search_below",
+    ];
+
+    /// The bounds in the order of `NAMES`, or a sentence saying which is
+    /// out of range (angles within [0, 90) or [0, 180], shares and reach
+    /// not negative).
+    pub fn new(v: [f64; 8]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below] =
+            v;
+        let ranges = [
+            (0.0, 90.0),
+            (0.0, f64::MAX),
+            (0.0, f64::MAX),
+            (0.0, 180.0),
+            (0.0, 180.0),
+            (0.0, 180.0),
+            (0.0, f64::MAX),
+            (0.0, 90.0),
+        ];
+        for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
+            if !(x >= lo && x < hi) {
+                return Err(format!(
+                    "bound({name}, {x}) must be at least {lo} and below {hi}"
+                ));
+            }
+        }
+        let c = valid_corner.to_radians().cos();
+        Ok(HostBounds {
+            valid_corner,
+            cos2_valid_corner: c * c,
+            valid_edge,
+            valid_clearance,
+            min_front_angle,
+            relation_corner,
+            relation_inner_above,
+            relation_reach,
+            centre_search_below,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -175,6 +278,22 @@ mod tests {
         assert!(!b.corner_inside(c.cos(), 1.0, 1.0));
         assert!(ElementBounds::default().corner_inside(c.cos(), 1.0, 1.0));
         assert_eq!(b.corner_excess(48.0), 2.0);
+    }
+
+    #[test]
+    fn the_built_in_valid_corner_gives_the_cosine_squared_of_4_degrees() {
+        assert_eq!(
+            HostBounds::default().cos2_valid_corner,
+            0.995_134_034_370_785_1
+        );
+    }
+
+    #[test]
+    fn a_negative_reach_is_refused() {
+        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0];
+        v[6] = -1.0;
+        let e = HostBounds::new(v).unwrap_err();
+        assert!(e.contains("relation_reach"), "{e}");
     }
 
     #[test]

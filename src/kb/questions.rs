@@ -14,7 +14,7 @@ use crate::kb::terms;
 use crate::kb::vocabulary::{
     Action, Context, Designed, FrontFacts, Pattern, PatternKind, Redesigned, Relation,
 };
-use crate::settings::{ElementBounds, Settings};
+use crate::settings::{ElementBounds, HostBounds, Settings};
 
 impl KnowledgeBase {
     /// The settings (`strategy/1`, `bound/2`), read once for a run.
@@ -34,7 +34,16 @@ impl KnowledgeBase {
             answer: why,
             expected: "a usable set of element bounds".into(),
         })?;
-        Ok(Settings::new(strategy, rounds, element))
+        let mut host = [0.0; 8];
+        for (v, name) in host.iter_mut().zip(HostBounds::NAMES) {
+            *v = self.bound(name)?;
+        }
+        let host = HostBounds::new(host).map_err(|why| KbError::Answer {
+            query: "bound/2".into(),
+            answer: why,
+            expected: "a usable set of host thresholds".into(),
+        })?;
+        Ok(Settings::new(strategy, rounds, element, host))
     }
 
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {

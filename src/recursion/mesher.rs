@@ -22,7 +22,7 @@ use crate::recursion::queue::{DesignQueue, QueuedDesign};
 use crate::redesign::{redesign, Redesign};
 use crate::report::trace::{By, TraceStep, Veto};
 use crate::settings::Settings;
-use crate::validity::{element_valid, Vetoed, MIN_FRONT_ANGLE};
+use crate::validity::{element_valid, Vetoed};
 
 /// Why meshing stopped short.
 #[derive(Debug, thiserror::Error)]
@@ -107,7 +107,8 @@ impl<'k> Mesher<'k> {
             area,
             set,
         } = prepared;
-        let (pm, expected) = PartialMesh::new(disc, size, area);
+        let (mut pm, expected) = PartialMesh::new(disc, size, area);
+        pm.host = set.host;
         Mesher {
             kb,
             pm,
@@ -319,6 +320,7 @@ impl<'k> Mesher<'k> {
     /// knowledge base changed (a file was consulted mid-run).
     pub fn kb_changed(&mut self) -> Result<(), MeshError> {
         self.set = self.kb.settings()?;
+        self.pm.host = self.set.host;
         self.queue.clear();
         if !self.started {
             return Ok(());
@@ -474,12 +476,9 @@ impl<'k> Mesher<'k> {
             // no spike: the remaining domain keeps a usable angle at every
             // occurrence the element touched
             ok = ok
-                && self
-                    .pm
-                    .front
-                    .touched_live()
-                    .iter()
-                    .all(|&fv| self.pm.front.angle(fv, &self.pm.mesh.nodes) > MIN_FRONT_ANGLE);
+                && self.pm.front.touched_live().iter().all(|&fv| {
+                    self.pm.front.angle(fv, &self.pm.mesh.nodes) > self.pm.host.min_front_angle
+                });
         }
         if !ok {
             self.pm.front.rollback();

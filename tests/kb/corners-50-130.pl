@@ -11,3 +11,11 @@ bound(redesign_rounds, 4).
 bound(max_aspect, 10).
 bound(max_taper, 10).
 bound(max_size_jump, 2).
+bound(valid_corner, 4).
+bound(valid_edge, 0.25).
+bound(valid_clearance, 0.15).
+bound(min_front_angle, 12).
+bound(relation_corner, 90).
+bound(relation_inner_above, 120).
+bound(relation_reach, 1).
+bound(centre_search_below, 30).
