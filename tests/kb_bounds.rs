@@ -46,3 +46,21 @@ fn a_narrower_corner_window_gives_more_quads_inside_it_and_is_the_one_reported()
     // the summary reports the share for the window in force
     assert!((narrow.quality.pct_45_135 - after).abs() < 1e-6);
 }
+
+#[test]
+fn a_wider_clearance_in_the_kb_is_the_one_the_validity_check_applies() {
+    let built_in = mesh_plate(None);
+    let wider = mesh_plate(Some("tests/kb/clearance-0.3.pl"));
+    let front_vetoes = |r: &MeshResult| {
+        r.vetoes
+            .iter()
+            .filter(|v| v.reason == "front_crossed_or_too_close")
+            .count()
+    };
+    assert!(
+        front_vetoes(&wider) > front_vetoes(&built_in),
+        "designs refused for clearance: {} with 0.3, {} built in",
+        front_vetoes(&wider),
+        front_vetoes(&built_in)
+    );
+}
