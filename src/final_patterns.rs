@@ -8,7 +8,7 @@ use glam::DVec2;
 use crate::features::deg_round;
 use crate::geometry::{orient2d, quad_angles};
 use crate::kb::{KbError, KnowledgeBase, PatternKind};
-use crate::partial_mesh::PartialMesh;
+use crate::partial_mesh::{Closing, PartialMesh};
 use crate::report::trace::{Angles, By};
 use crate::validity::{convex_ok, distinct, quad_clear};
 
@@ -48,10 +48,12 @@ pub fn try_close_loop(
                 l,
                 vec![quad],
                 &[],
-                "final4",
-                "quad".into(),
-                angle_map,
-                By::Pattern,
+                Closing {
+                    feature: "final4",
+                    action: "quad".into(),
+                    angles: angle_map,
+                    by: By::Pattern,
+                },
             );
             return Ok(true);
         }
@@ -105,10 +107,12 @@ pub fn try_close_loop(
                 l,
                 quads_ids,
                 &new_pts,
-                "final6",
-                pat.text,
-                angle_map,
-                By::Pattern,
+                Closing {
+                    feature: "final6",
+                    action: pat.text,
+                    angles: angle_map,
+                    by: By::Pattern,
+                },
             );
             return Ok(true);
         }

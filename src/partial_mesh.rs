@@ -75,6 +75,18 @@ impl MeshStats {
     }
 }
 
+/// What the trace says of the elements that close a loop.
+pub struct Closing<'a> {
+    /// The feature (`final4`, `final6`, `stuck`).
+    pub feature: &'a str,
+    /// The action (the pattern, `quad`, `ring`).
+    pub action: String,
+    /// The angles seen.
+    pub angles: Angles,
+    /// Who made them.
+    pub by: By,
+}
+
 /// The elements made so far and the remaining domain.
 pub struct PartialMesh {
     /// The mesh built so far.
@@ -234,17 +246,21 @@ impl PartialMesh {
     }
 
     /// Closes loop `l` with `quads` (their corners are node ids; the
-    /// nodes `new_nodes` are added first), one trace step an element.
+    /// nodes `new_nodes` are added first), one trace step an element, as
+    /// `closing` says.
     pub fn close_with(
         &mut self,
         l: u32,
         quads: Vec<[u32; 4]>,
         new_nodes: &[DVec2],
-        feature: &str,
-        action: String,
-        angles: Angles,
-        by: By,
+        closing: Closing,
     ) {
+        let Closing {
+            feature,
+            action,
+            angles,
+            by,
+        } = closing;
         for &c in new_nodes {
             self.mesh.add_node(c, NodeKind::Interior);
         }

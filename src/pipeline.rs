@@ -15,7 +15,7 @@ use crate::input::domain::{self, Domain, DomainError};
 use crate::kb::{KbError, KbStats, KnowledgeBase};
 use crate::mesh::Mesh;
 use crate::partial_mesh::MeshStats;
-use crate::recursion::{MeshError, Mesher, Prepared};
+use crate::recursion::{MeshError, Mesher, Outcome, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
 use crate::report::trace::{By, TraceStep, Veto};
@@ -341,18 +341,9 @@ impl<'k> Run<'k> {
             Some(reason) => reason,
             None => {
                 let bounds = self.mesher.settings().element;
-                let (mesh, trace, stats, area) = self.mesher.take_outcome();
+                let outcome = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
-                match finish_mesh(
-                    mesh,
-                    trace,
-                    stats,
-                    area,
-                    &bounds,
-                    &self.opts,
-                    self.kb_before,
-                    kb_after,
-                ) {
+                match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {
                     Ok(mut r) => {
                         r.phases.prepare = self.prepare;
                         r.phases.recursion = recursion;
@@ -407,16 +398,14 @@ impl<'k> Run<'k> {
         let bounds = self.mesher.settings().element;
         stats.triangle_elements = mesh.quads.len();
         // the rules' attempt is gone: its vetoes with it (still counted)
-        let mut r = finish_mesh(
+        let outcome = Outcome {
             mesh,
-            (trace, Vec::new()),
+            trace,
+            vetoes: Vec::new(),
             stats,
             area,
-            &bounds,
-            &self.opts,
-            self.kb_before,
-            kb_stats,
-        )?;
+        };
+        let mut r = finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_stats)?;
         r.phases.prepare = self.prepare;
         r.phases.recursion = recursion;
         Ok(r)
@@ -458,15 +447,19 @@ fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Ve
 
 /// The stages after the recursion: smoothing, clean-up, check, quality.
 fn finish_mesh(
-    mut mesh: Mesh,
-    (mut trace, mut vetoes): (Vec<TraceStep>, Vec<Veto>),
-    mut stats: MeshStats,
-    area: f64,
+    outcome: Outcome,
     bounds: &ElementBounds,
     opts: &Options,
     kb_before: KbStats,
     kb_after: KbStats,
 ) -> Result<MeshResult, Error> {
+    let Outcome {
+        mut mesh,
+        mut trace,
+        mut vetoes,
+        mut stats,
+        area,
+    } = outcome;
     check::check_boundary_followed(&mesh)?;
     compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     let t0 = Instant::now();

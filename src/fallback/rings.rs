@@ -5,7 +5,7 @@ use glam::DVec2;
 
 use crate::geometry::orient2d;
 use crate::mesh::NodeKind;
-use crate::partial_mesh::PartialMesh;
+use crate::partial_mesh::{Closing, PartialMesh};
 use crate::report::trace::{Angles, By};
 use crate::validity::{convex_angles, distinct, quad_clear};
 
@@ -142,10 +142,12 @@ pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
             l,
             qs,
             &[],
-            "stuck",
-            "ring".into(),
-            Angles::default(),
-            By::Ring,
+            Closing {
+                feature: "stuck",
+                action: "ring".into(),
+                angles: Angles::default(),
+                by: By::Ring,
+            },
         );
         pm.front.begin();
         let nl = pm.front.add_loop(&inner_ids, &vec![layer; n]);

@@ -76,6 +76,20 @@ impl Prepared {
 /// pass; past that, a run is going round in circles.
 const MAX_FALLBACK_PASSES: usize = 100;
 
+/// What a finished recursion hands over.
+pub struct Outcome {
+    /// The elements made.
+    pub mesh: Mesh,
+    /// The steps (kept when the trace is).
+    pub trace: Vec<TraceStep>,
+    /// The designs the validity check refused (kept with the trace).
+    pub vetoes: Vec<Veto>,
+    /// The counters.
+    pub stats: MeshStats,
+    /// The domain's area.
+    pub area: f64,
+}
+
 /// The meshing run.
 pub struct Mesher<'k> {
     kb: &'k mut KnowledgeBase,
@@ -148,17 +162,15 @@ impl<'k> Mesher<'k> {
     /// needs and hands over the mesh, the trace (steps and vetoes), the
     /// counters and the
     /// domain's area. The run is left empty.
-    pub fn take_outcome(&mut self) -> (Mesh, (Vec<TraceStep>, Vec<Veto>), MeshStats, f64) {
+    pub fn take_outcome(&mut self) -> Outcome {
         self.release_working_state();
-        (
-            std::mem::take(&mut self.pm.mesh),
-            (
-                std::mem::take(&mut self.pm.trace),
-                std::mem::take(&mut self.pm.vetoes),
-            ),
-            self.pm.stats,
-            self.pm.area,
-        )
+        Outcome {
+            mesh: std::mem::take(&mut self.pm.mesh),
+            trace: std::mem::take(&mut self.pm.trace),
+            vetoes: std::mem::take(&mut self.pm.vetoes),
+            stats: self.pm.stats,
+            area: self.pm.area,
+        }
     }
 
     /// The boundary features of the current front, as the KB sees them.
