@@ -41,6 +41,32 @@ strategy([b4, b5, b3, b2, b1]).
 % near_node: a new corner closer than this fraction of the element size
 %   to a front node is merged with it (the fronts meet).
 % redesign_rounds: how many redesign rules may fire on one element.
+% max_aspect, max_taper: the largest aspect ratio and taper of a good
+%   element; with the corner window, what smoothing and clean-up aim
+%   for (lower_corner and upper_corner too, and the summary reports the
+%   share of elements with every corner in [lower_corner, upper_corner]).
+% max_size_jump: the largest size jump between neighbours (the square
+%   root of their area ratio) that smoothing and clean-up leave alone.
+%
+% The host's own thresholds during the recursion, here so that a KB can
+% see and change them (a design the validity check refuses is a veto in
+% the trace, with its reason):
+% valid_corner: an element's corners must lie in [V, 180 - V] deg.
+% valid_edge: no element edge shorter than this share of the edge it is
+%   built on (nor than a third of the shortest input segment).
+% valid_clearance: a new corner or edge keeps this share of the base
+%   edge away from the front, so no sliver is left between them.
+% min_front_angle: the sharpest corner (deg) an element may leave the
+%   remaining domain; a spike cannot be meshed.
+% relation_corner: the redesign rules are shown an outer, remaining or
+%   inner corner (constraint 1) only when it is below this (deg) ...
+% relation_inner_above: ... or, for an inner corner, above this (deg).
+% relation_reach: front nodes and segments within this many element
+%   sizes of a new corner are shown to the redesign rules (constraint 3).
+% centre_search_below: a final pattern's inner node (Eq. 5, 6) whose
+%   elements would have a corner within this many deg of 0 or 180 is
+%   moved to the best place of a search over the loop.
+%
 % ?- bound(lower_corner, L).
 %    L = 45.
 bound(upper_corner, 135).
@@ -51,3 +77,14 @@ bound(near_vertical, 0.45).
 bound(near_horizontal, 0.3).
 bound(near_node, 0.5).
 bound(redesign_rounds, 4).
+bound(max_aspect, 10).
+bound(max_taper, 10).
+bound(max_size_jump, 2).
+bound(valid_corner, 4).
+bound(valid_edge, 0.25).
+bound(valid_clearance, 0.15).
+bound(min_front_angle, 12).
+bound(relation_corner, 90).
+bound(relation_inner_above, 120).
+bound(relation_reach, 1).
+bound(centre_search_below, 30).

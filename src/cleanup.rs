@@ -1,5 +1,5 @@
 //! Topological clean-up: where smoothing cannot bring an element's corners
-//! into [45, 135] (the way the elements meet there is wrong, not where
+//! into the window of `bound/2` ([45, 135] built in; the way the elements meet there is wrong, not where
 //! the nodes are), the elements are joined up anew.
 //!
 //! Two operations, both keeping the mesh all-quad and conforming and the
@@ -10,17 +10,18 @@
 //! - collapse: an element is removed by joining two opposite corners
 //!   (the free one moves onto the other), its neighbours closing the gap.
 //!
-//! Each element with a corner outside [45, 135], worst first, is tried
+//! Each element with a corner outside the window, worst first, is tried
 //! with every flip of its edges and every collapse; the region round each
 //! result is smoothed locally, and the best result is kept if it makes the
 //! region's worst corner clearly better. Then each element past the shape
-//! and size bounds (aspect ratio or taper above 10, size above twice a
-//! neighbour's) gets the change that brings its region furthest within
+//! and size bounds (built in: aspect ratio or taper above 10, size above
+//! twice a neighbour's) gets the change that brings its region furthest within
 //! them, if no corner of the region gets worse.
 
 use glam::DVec2;
 
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 
 use crate::element_quality::sine_worst_around;
 
@@ -62,17 +63,21 @@ const OPS: [Op; 8] = [
     Op::Collapse(3),
 ];
 
-/// Cleans up the elements with a corner outside [45, 135] or past the
-/// shape and size bounds: all of them, or (`near`) those within a few
+/// Cleans up the elements with a corner outside the window of `bounds`
+/// or past its shape and size bounds: all of them, or (`near`) those within a few
 /// elements of these nodes (round the last clean-up's changes: elsewhere
 /// nothing changed since). Returns what it did and the nodes round the
 /// changes (to be smoothed again).
-pub fn clean_up(mesh: &mut Mesh, near: Option<&[u32]>) -> (CleanupStats, Vec<u32>) {
+pub fn clean_up(
+    mesh: &mut Mesh,
+    near: Option<&[u32]>,
+    bounds: &ElementBounds,
+) -> (CleanupStats, Vec<u32>) {
     // a second copy to judge changes on beside the first: for a whole
     // large mesh, where many elements have all their changes judged
     let threads = std::thread::available_parallelism().map_or(1, |c| c.get());
     let side_by_side = near.is_none() && threads > 1 && mesh.quads.len() >= SIDE_BY_SIDE_FROM;
-    clean_up_on(mesh, near, side_by_side)
+    clean_up_on(mesh, near, side_by_side, bounds)
 }
 
 /// `clean_up`, judging changes on a copy beside the mesh or not.
@@ -80,12 +85,13 @@ fn clean_up_on(
     mesh: &mut Mesh,
     near: Option<&[u32]>,
     side_by_side: bool,
+    bounds: &ElementBounds,
 ) -> (CleanupStats, Vec<u32>) {
     let mut stats = CleanupStats::default();
     let mut touched: Vec<u32> = Vec::new();
     let mut copy = side_by_side.then(|| mesh.clone());
-    let mut w = Working::new(mesh);
-    let mut helper = copy.as_mut().map(Working::new);
+    let mut w = Working::new(mesh, *bounds);
+    let mut helper = copy.as_mut().map(|m| Working::new(m, *bounds));
     let look_at: Vec<u32> = match near {
         None => (0..w.mesh.quads.len() as u32).collect(),
         Some(nodes) => w.elements_near(nodes, NEAR_RINGS),
@@ -405,8 +411,8 @@ mod tests {
         // some of them with every change judged
         let (m, _) = crate::smoothing::tests::pushed_grid(30, 0.45);
         let (mut one, mut two) = (m.clone(), m.clone());
-        let (s1, t1) = clean_up_on(&mut one, None, false);
-        let (s2, t2) = clean_up_on(&mut two, None, true);
+        let (s1, t1) = clean_up_on(&mut one, None, false, &ElementBounds::default());
+        let (s2, t2) = clean_up_on(&mut two, None, true, &ElementBounds::default());
         assert!(s1.flips + s1.collapses > 0);
         assert_eq!((s1.flips, s1.collapses, t1), (s2.flips, s2.collapses, t2));
         assert_eq!(one.quads, two.quads);
@@ -418,7 +424,7 @@ mod tests {
         let mut m = badly_split_hexagon();
         let area = m.area();
         assert!(worst_corner(&m) > 10.0);
-        let (stats, _) = clean_up(&mut m, None);
+        let (stats, _) = clean_up(&mut m, None, &ElementBounds::default());
         assert_eq!((stats.flips, stats.collapses), (1, 0));
         assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
         assert!((m.area() - area).abs() < 1e-12);
@@ -438,7 +444,7 @@ mod tests {
             group: 1,
             tag: None,
         });
-        let (stats, _) = clean_up(&mut m, None);
+        let (stats, _) = clean_up(&mut m, None, &ElementBounds::default());
         assert_eq!(stats.flips, 0);
         assert_eq!(m.quads, vec![[0, 1, 2, 3], [3, 4, 5, 0]]);
     }
@@ -492,7 +498,7 @@ mod tests {
             }
             let area = m.area();
             let corner_before = worst_corner(&m).max(0.0);
-            let (stats, _) = clean_up(&mut m, None);
+            let (stats, _) = clean_up(&mut m, None, &ElementBounds::default());
             tried += 1;
             changed += usize::from(stats.flips + stats.collapses > 0);
             crate::report::check::check_mesh(&m, area).unwrap();
@@ -515,7 +521,7 @@ mod tests {
             .filter(|&i| m.kinds[i] == NodeKind::Boundary)
             .map(|i| m.nodes[i])
             .collect();
-        let (stats, touched) = clean_up(&mut m, None);
+        let (stats, touched) = clean_up(&mut m, None, &ElementBounds::default());
         assert!(stats.flips + stats.collapses > 0);
         assert!(!touched.is_empty());
         assert!(worst_corner(&m) < before - 0.5);

@@ -1,5 +1,6 @@
 //! Element quality: one home for every measure of an element the stages
-//! judge by. Angles against the window [45, 135] (badness), the scaled
+//! judge by. Angles against the KB's corner window (badness; [45, 135]
+//! unless `bound/2` says otherwise, see settings.rs), the scaled
 //! Jacobian (smallest sine of a corner), aspect ratio and taper, and the
 //! size jump between neighbours; each also for the elements round a node.
 
@@ -7,55 +8,56 @@ use glam::DVec2;
 
 use crate::geometry::{interior_angle, orient2d};
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 
-/// How far an element's worst corner is from the [45, 135] window
+/// How far an element's worst corner is from the corner window
 /// (degrees; 0 inside it), or infinity if the element is not convex.
-pub(crate) fn badness(q: [DVec2; 4]) -> f64 {
+pub(crate) fn badness(q: [DVec2; 4], bounds: &ElementBounds) -> f64 {
     for i in 0..4 {
         if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
             return f64::INFINITY;
         }
     }
-    // Most elements have every corner inside the window: |cos| <= cos 45
-    // at each, tested without trigonometry.
+    // Most elements have every corner inside the window: cos against the
+    // window's at each, tested without trigonometry.
     let inside = (0..4).all(|i| {
         let a = q[(i + 1) % 4] - q[i];
         let b = q[(i + 3) % 4] - q[i];
-        let d = a.dot(b);
-        2.0 * d * d <= a.length_squared() * b.length_squared()
+        bounds.corner_inside(a.dot(b), a.length_squared(), b.length_squared())
     });
     if inside {
         return 0.0;
     }
-    worst_excess(q)
+    worst_excess(q, bounds)
 }
 
 /// The angle of corner `i` of an element in degrees, as `quad_angles`
-/// measures it, or None when the corner is clearly inside [45, 135]:
+/// measures it, or None when the corner is clearly inside the window:
 /// told without trigonometry, with a margin so that the answer is the
 /// same as measuring it.
-pub(crate) fn angle_unless_inside(q: &[DVec2; 4], i: usize) -> Option<f64> {
+pub(crate) fn angle_unless_inside(q: &[DVec2; 4], i: usize, bounds: &ElementBounds) -> Option<f64> {
     let a = q[(i + 1) % 4] - q[i];
     let b = q[(i + 3) % 4] - q[i];
-    let d = a.dot(b);
-    if a.perp_dot(b) > 0.0 && 2.0 * d * d < (1.0 - 1e-9) * a.length_squared() * b.length_squared() {
+    if a.perp_dot(b) > 0.0
+        && bounds.corner_clearly_inside(a.dot(b), a.length_squared(), b.length_squared())
+    {
         return None;
     }
     Some(interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees())
 }
 
-/// How far the worst corner of an element is past [45, 135] (degrees).
-pub(crate) fn worst_excess(q: [DVec2; 4]) -> f64 {
+/// How far the worst corner of an element is past the window (degrees).
+pub(crate) fn worst_excess(q: [DVec2; 4], bounds: &ElementBounds) -> f64 {
     (0..4)
-        .filter_map(|i| angle_unless_inside(&q, i))
-        .map(|a| (45.0 - a).max(a - 135.0).max(0.0))
+        .filter_map(|i| angle_unless_inside(&q, i, bounds))
+        .map(|a| bounds.corner_excess(a))
         .fold(0.0, f64::max)
 }
 
 /// An element's `badness` and its scaled Jacobian (smallest sine of a
 /// corner) together, the edge vectors worked out once: the same numbers
 /// as the two functions apart. None if the element is not convex.
-pub(crate) fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
+pub(crate) fn badness_and_sine(q: [DVec2; 4], bounds: &ElementBounds) -> Option<(f64, f64)> {
     for i in 0..4 {
         if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
             return None;
@@ -68,11 +70,10 @@ pub(crate) fn badness_and_sine(q: [DVec2; 4]) -> Option<(f64, f64)> {
     for i in 0..4 {
         // corner i between e[i] and the reversed e[i - 1]
         let (a, b) = (e[i], -e[(i + 3) % 4]);
-        let d = a.dot(b);
-        inside &= 2.0 * d * d <= a.length_squared() * b.length_squared();
+        inside &= bounds.corner_inside(a.dot(b), a.length_squared(), b.length_squared());
         min_sin = min_sin.min(unit[i].perp_dot(-unit[(i + 3) % 4]));
     }
-    let bad = if inside { 0.0 } else { worst_excess(q) };
+    let bad = if inside { 0.0 } else { worst_excess(q, bounds) };
     Some((bad, min_sin))
 }
 
@@ -111,11 +112,15 @@ pub(crate) fn convex_scaled_jacobian(q: [DVec2; 4]) -> Option<f64> {
 
 /// The worst corner of the elements round a node: (badness, -smallest
 /// sine of a corner), smaller is better; infinite if one is not convex.
-pub(crate) fn worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> (f64, f64) {
+pub(crate) fn worst_around(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+) -> (f64, f64) {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let Some((b, s)) = badness_and_sine(mesh.quad_points(q as usize)) else {
+        let Some((b, s)) = badness_and_sine(mesh.quad_points(q as usize), bounds) else {
             return (f64::INFINITY, f64::INFINITY);
         };
         bad = bad.max(b);
@@ -131,11 +136,12 @@ pub(crate) fn worst_around_under(
     mesh: &Mesh,
     around: &[(u32, u8)],
     best: (f64, f64),
+    bounds: &ElementBounds,
 ) -> Option<(f64, f64)> {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let (b, s) = badness_and_sine(mesh.quad_points(q as usize))?;
+        let (b, s) = badness_and_sine(mesh.quad_points(q as usize), bounds)?;
         bad = bad.max(b);
         min_sin = min_sin.min(s);
         if !((bad, -min_sin) < best) {
@@ -159,50 +165,53 @@ pub(crate) fn sine_worst_around_under(mesh: &Mesh, around: &[(u32, u8)], best: f
 }
 
 /// True when every corner of the elements round a node has a sine above
-/// 0.8 (between 53 and 127 degrees, so convex and inside [45, 135]):
-/// the common case, told without trigonometry.
-pub(crate) fn corners_fine(mesh: &Mesh, around: &[(u32, u8)]) -> bool {
+/// 0.8 (between 53 and 127 degrees) and is inside the window, so convex
+/// and good: the common case, told without trigonometry.
+pub(crate) fn corners_fine(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> bool {
+    // cos² below 0.36 and below the window's on both sides
+    let fine = 0.36f64.min(bounds.cos2_lower).min(bounds.cos2_upper);
     around.iter().all(|&(q, _)| {
         let p = mesh.quad_points(q as usize);
         (0..4).all(|i| {
             let a = p[(i + 1) % 4] - p[i];
             let b = p[(i + 3) % 4] - p[i];
             let d = a.dot(b);
-            a.perp_dot(b) > 0.0 && d * d < 0.36 * a.length_squared() * b.length_squared()
+            a.perp_dot(b) > 0.0 && d * d < fine * a.length_squared() * b.length_squared()
         })
     })
 }
 
-/// How many corners of the elements round a node are outside [45, 135].
-pub(crate) fn corners_outside(mesh: &Mesh, around: &[(u32, u8)]) -> usize {
+/// How many corners of the elements round a node are outside the window.
+pub(crate) fn corners_outside(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> usize {
     around
         .iter()
         .map(|&(q, _)| {
             let p = mesh.quad_points(q as usize);
             (0..4)
-                .filter_map(|i| angle_unless_inside(&p, i))
-                .filter(|a| !(45.0..=135.0).contains(a))
+                .filter_map(|i| angle_unless_inside(&p, i, bounds))
+                .filter(|&a| !bounds.corner_in_window(a))
                 .count()
         })
         .sum()
 }
 
 /// How far an element is past the paper's bounds on size and shape, as a
-/// share of each bound: its size against each neighbour's (factor 2, the
-/// square root of the area ratio), its taper and aspect ratio (10). At
-/// most 1 when within them. `area` gives each element's area.
+/// share of each bound: its size against each neighbour's (the square
+/// root of the area ratio), its taper and aspect ratio. At most 1 when
+/// within them. `area` gives each element's area.
 pub(crate) fn size_shape_excess(
     mesh: &Mesh,
     q: u32,
     neighbours: &[Option<u32>; 4],
     area: &dyn Fn(u32) -> f64,
+    bounds: &ElementBounds,
 ) -> f64 {
     let (aspect, taper) = aspect_taper(mesh.quad_points(q as usize));
-    let mut worst = (aspect / 10.0).max(taper / 10.0);
+    let mut worst = (aspect / bounds.max_aspect).max(taper / bounds.max_taper);
     let mine = area(q).max(1e-300);
     for f in neighbours.iter().flatten() {
         let other = area(*f).max(1e-300);
-        worst = worst.max((mine / other).max(other / mine).sqrt() / 2.0);
+        worst = worst.max((mine / other).max(other / mine).sqrt() / bounds.max_size_jump);
     }
     worst
 }

@@ -8,8 +8,8 @@ use glam::DVec2;
 use crate::features::deg_round;
 use crate::geometry::{orient2d, quad_angles};
 use crate::kb::{KbError, KnowledgeBase, PatternKind};
-use crate::partial_mesh::PartialMesh;
-use crate::report::trace::Angles;
+use crate::partial_mesh::{Closing, PartialMesh};
+use crate::report::trace::{Angles, By};
 use crate::validity::{convex_ok, distinct, quad_clear};
 
 /// Closes loop `l` if it has four or six segments and a pattern fits;
@@ -44,7 +44,17 @@ pub fn try_close_loop(
             )
         {
             let quad = [ids[0], ids[1], ids[2], ids[3]];
-            pm.close_with(l, vec![quad], &[], "final4", "quad".into(), angle_map);
+            pm.close_with(
+                l,
+                vec![quad],
+                &[],
+                Closing {
+                    feature: "final4",
+                    action: "quad".into(),
+                    angles: angle_map,
+                    by: By::Pattern,
+                },
+            );
             return Ok(true);
         }
         return Ok(false);
@@ -74,7 +84,7 @@ pub fn try_close_loop(
                 ];
                 // where Eq. 5/6 gives a bad element, the builtin moves the
                 // node to the best place it finds in the loop
-                let c = best_centre(&p, &quads, c);
+                let c = best_centre(&p, &quads, c, pm.host.centre_search_below);
                 (quads, vec![c])
             }
         };
@@ -93,7 +103,17 @@ pub fn try_close_loop(
                 .iter()
                 .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
                 .collect();
-            pm.close_with(l, quads_ids, &new_pts, "final6", pat.text, angle_map);
+            pm.close_with(
+                l,
+                quads_ids,
+                &new_pts,
+                Closing {
+                    feature: "final6",
+                    action: pat.text,
+                    angles: angle_map,
+                    by: By::Pattern,
+                },
+            );
             return Ok(true);
         }
     }
@@ -103,7 +123,7 @@ pub fn try_close_loop(
 /// The position of an inner node (index 6 in `quads`) that makes the
 /// elements convex with the largest smallest angle: `first` if it is good,
 /// else the best of a grid over the loop's bounding box.
-fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
+fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2, search_below: f64) -> DVec2 {
     // the smallest angle of the elements, or a value at most `floor` as
     // soon as one shows the place no better than that
     let score = |c: DVec2, floor: f64| -> f64 {
@@ -125,7 +145,7 @@ fn best_centre(p: &[DVec2], quads: &[[usize; 4]], first: DVec2) -> DVec2 {
         worst
     };
     let mut best = (score(first, f64::NEG_INFINITY), first);
-    if best.0 >= 30.0 {
+    if best.0 >= search_below {
         return first;
     }
     let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));

@@ -67,7 +67,7 @@ pub use pipeline::{
 };
 pub use recursion::MeshError;
 pub use report::quality::Quality;
-pub use report::trace::TraceStep;
+pub use report::trace::{json_lines as trace_json_lines, By, TraceStep, Veto};
 pub use second_order::{ElementKind, SecondOrder};
 
 // The binary's other commands: the boundary made ready while the engine

@@ -208,8 +208,8 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
     )?;
     writeln!(
         out,
-        "angles {:.1}..{:.1} deg, {:.1}% of quads in [45, 135]",
-        q.min_angle, q.max_angle, q.pct_45_135
+        "angles {:.1}..{:.1} deg, {:.1}% of quads in [{}, {}]",
+        q.min_angle, q.max_angle, q.pct_45_135, q.corner_window[0], q.corner_window[1]
     )?;
     writeln!(
         out,
@@ -487,31 +487,30 @@ fn mesh_one(
         })
         .collect();
     if let Some(t) = trace_path {
-        let mut text = String::new();
-        for step in &result.trace {
-            text.push_str(&step.to_json_line());
-            text.push('\n');
-        }
+        let text = freemesh::trace_json_lines(&result.trace, &result.vetoes);
         files.push((t.to_path_buf(), text));
     }
     write_all(&files).context("writing the outputs")?;
     let q = &result.quality;
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
-        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}, {:.3} s",
+        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}, {:.3} s; made {}",
         domain.name(),
         result.mesh.nodes.len(),
         q.quads,
         q.min_angle,
         q.max_angle,
         q.pct_45_135,
+        q.corner_window[0],
+        q.corner_window[1],
         result.stats.fallback_splits,
         if result.stats.triangle_fallbacks > 0 {
             " (the rules stopped: meshed whole by the triangle fallback)"
         } else {
             ""
         },
-        elapsed
+        elapsed,
+        result.stats.made_by_text()
     );
     if args.stats {
         let k = &result.kb_stats;
@@ -535,6 +534,11 @@ fn mesh_one(
                 k.second_engine_time.as_secs_f64()
             );
         }
+        eprintln!(
+            "{}: elements made {} (validity checks that refused a design)",
+            domain.name(),
+            result.stats.made_by_text()
+        );
         eprintln!(
             "{}: clean-up {} edge flips, {} element collapses",
             domain.name(),

@@ -11,15 +11,24 @@ use crate::front::{Front, Fv};
 use crate::geometry::{orient2d, segments_intersect, SegmentRelation};
 use crate::input::boundary::Discretised;
 use crate::mesh::{Mesh, NodeKind};
-use crate::report::trace::{Angles, TraceStep};
+use crate::report::trace::{Angles, By, TraceStep, Veto};
+use crate::settings::HostBounds;
 
 /// Counters of one meshing run.
 #[derive(Debug, Default, Clone, Copy)]
 pub struct MeshStats {
     /// Elements made by design actions.
     pub designed: usize,
-    /// Elements made by final patterns.
+    /// Elements made by final patterns and by the fallback's rings.
     pub closed: usize,
+    /// Of those, elements made by rings.
+    pub ring_elements: usize,
+    /// Rings made (counted among the fallback splits too).
+    pub rings: usize,
+    /// Elements of the last resort's mesh (0 unless it was taken).
+    pub triangle_elements: usize,
+    /// Designs the host's validity check refused (each in the trace).
+    pub vetoes: usize,
     /// Loop splits by the fallback.
     pub fallback_splits: usize,
     /// Redesign rules fired.
@@ -37,6 +46,47 @@ pub struct MeshStats {
     pub cleanup_collapses: usize,
 }
 
+impl MeshStats {
+    /// How many elements each maker made (for `Chord`, loop splits; for
+    /// `Unmesh`, elements taken back), in the order of `By`. After the
+    /// last resort only its elements count: the rules' attempt is gone.
+    pub fn made_by(&self) -> [(By, usize); 6] {
+        let t = self.triangle_elements;
+        let of = |n: usize| if t > 0 { 0 } else { n };
+        [
+            (By::Rule, of(self.designed)),
+            (By::Pattern, of(self.closed - self.ring_elements)),
+            (By::Chord, of(self.fallback_splits - self.rings)),
+            (By::Ring, of(self.ring_elements)),
+            (By::Unmesh, of(self.unmeshed)),
+            (By::Triangles, t),
+        ]
+    }
+
+    /// The summary's words for `made_by` and the vetoes: `by rule 700,
+    /// pattern 98, ...; 3 vetoes`.
+    pub fn made_by_text(&self) -> String {
+        let parts: Vec<String> = self
+            .made_by()
+            .iter()
+            .map(|(by, n)| format!("{} {n}", by.name()))
+            .collect();
+        format!("by {}; {} vetoes", parts.join(", "), self.vetoes)
+    }
+}
+
+/// What the trace says of the elements that close a loop.
+pub struct Closing<'a> {
+    /// The feature (`final4`, `final6`, `stuck`).
+    pub feature: &'a str,
+    /// The action (the pattern, `quad`, `ring`).
+    pub action: String,
+    /// The angles seen.
+    pub angles: Angles,
+    /// Who made them.
+    pub by: By,
+}
+
 /// The elements made so far and the remaining domain.
 pub struct PartialMesh {
     /// The mesh built so far.
@@ -45,6 +95,10 @@ pub struct PartialMesh {
     pub front: Front,
     /// The inference trace (kept when `record_trace`).
     pub trace: Vec<TraceStep>,
+    /// The host's thresholds (`bound/2`, see settings.rs).
+    pub host: HostBounds,
+    /// The designs the validity check refused (kept when `record_trace`).
+    pub vetoes: Vec<Veto>,
     /// Whether steps are recorded in `trace` (they are always counted).
     pub record_trace: bool,
     /// Steps of the inference so far.
@@ -110,6 +164,8 @@ impl PartialMesh {
             mesh,
             front,
             trace: Vec::new(),
+            vetoes: Vec::new(),
+            host: HostBounds::default(),
             record_trace: true,
             steps: 0,
             stats: MeshStats::default(),
@@ -148,6 +204,16 @@ impl PartialMesh {
         if self.record_trace {
             let step = make(self.steps);
             self.trace.push(step);
+        }
+    }
+
+    /// Counts a design the validity check refused and records it when the
+    /// trace is kept (before the next step).
+    pub fn note_veto(&mut self, make: impl FnOnce(usize) -> Veto) {
+        self.stats.vetoes += 1;
+        if self.record_trace {
+            let veto = make(self.steps + 1);
+            self.vetoes.push(veto);
         }
     }
 
@@ -204,16 +270,21 @@ impl PartialMesh {
     }
 
     /// Closes loop `l` with `quads` (their corners are node ids; the
-    /// nodes `new_nodes` are added first), one trace step an element.
+    /// nodes `new_nodes` are added first), one trace step an element, as
+    /// `closing` says.
     pub fn close_with(
         &mut self,
         l: u32,
         quads: Vec<[u32; 4]>,
         new_nodes: &[DVec2],
-        feature: &str,
-        action: String,
-        angles: Angles,
+        closing: Closing,
     ) {
+        let Closing {
+            feature,
+            action,
+            angles,
+            by,
+        } = closing;
         for &c in new_nodes {
             self.mesh.add_node(c, NodeKind::Interior);
         }
@@ -231,12 +302,16 @@ impl PartialMesh {
                 self.debug_overlap(self.mesh.quads.len() - 1);
             }
             self.stats.closed += 1;
+            if by == By::Ring {
+                self.stats.ring_elements += 1;
+            }
             self.note_step(|step| TraceStep {
                 step,
                 edge: edge.map(|x| x as i64),
                 angles: angles.clone(),
                 feature: feature.into(),
                 action: action.clone(),
+                by,
                 redesign: vec![],
                 element: q.iter().map(|&x| x as i64).collect(),
             });

@@ -15,10 +15,11 @@ use crate::input::domain::{self, Domain, DomainError};
 use crate::kb::{KbError, KbStats, KnowledgeBase};
 use crate::mesh::Mesh;
 use crate::partial_mesh::MeshStats;
-use crate::recursion::{MeshError, Mesher, Prepared};
+use crate::recursion::{MeshError, Mesher, Outcome, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
-use crate::report::trace::TraceStep;
+use crate::report::trace::{By, TraceStep, Veto};
+use crate::settings::ElementBounds;
 use crate::smoothing;
 
 /// How many times at most the clean-up and the smoothing round its
@@ -157,6 +158,9 @@ pub struct MeshResult {
     pub mesh: Mesh,
     /// The inference trace.
     pub trace: Vec<TraceStep>,
+    /// The designs the validity check refused, in order (kept with the
+    /// trace; counted in `stats.vetoes` always).
+    pub vetoes: Vec<Veto>,
     /// Counters of the recursion.
     pub stats: MeshStats,
     /// Quality figures.
@@ -472,17 +476,10 @@ impl<'k> Run<'k> {
         let reason = match self.stopped.take() {
             Some(reason) => reason,
             None => {
-                let (mesh, trace, stats, area) = self.mesher.take_outcome();
+                let bounds = self.mesher.settings().element;
+                let outcome = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
-                match finish_mesh(
-                    mesh,
-                    trace,
-                    stats,
-                    area,
-                    &self.opts,
-                    self.kb_before,
-                    kb_after,
-                ) {
+                match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {
                     Ok(mut r) => {
                         r.phases.prepare = self.prepare;
                         r.phases.recursion = recursion;
@@ -519,6 +516,7 @@ impl<'k> Run<'k> {
             angles: Default::default(),
             feature: "stuck".into(),
             action: format!("triangle_split({})", mesh.quads.len()),
+            by: By::Triangles,
             redesign: vec![reason],
             element: vec![],
         }];
@@ -526,15 +524,17 @@ impl<'k> Run<'k> {
         let area = boundary_area(&mesh, 1 + self.domain.holes.len() as u32);
         // the rules' attempt and the fallback count as the recursion
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
-        let mut r = finish_mesh(
+        let bounds = self.mesher.settings().element;
+        stats.triangle_elements = mesh.quads.len();
+        // the rules' attempt is gone: its vetoes with it (still counted)
+        let outcome = Outcome {
             mesh,
             trace,
+            vetoes: Vec::new(),
             stats,
             area,
-            &self.opts,
-            self.kb_before,
-            kb_stats,
-        )?;
+        };
+        let mut r = finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_stats)?;
         r.phases.prepare = self.prepare;
         r.phases.recursion = recursion;
         r.stopped_short = Some(stopped_short);
@@ -553,7 +553,7 @@ fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
 
 /// Drops the nodes no element uses; the trace's node ids follow (-1 for
 /// a node that is gone).
-fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
+fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Veto]) {
     let map = mesh.compact();
     let remap = |x: i64| {
         if x < 0 {
@@ -570,22 +570,30 @@ fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep]) {
             *n = remap(*n);
         }
     }
+    for v in vetoes {
+        v.edge = v.edge.map(remap);
+    }
 }
 
 /// The stages after the recursion: smoothing, clean-up, check, quality.
 fn finish_mesh(
-    mut mesh: Mesh,
-    mut trace: Vec<TraceStep>,
-    mut stats: MeshStats,
-    area: f64,
+    outcome: Outcome,
+    bounds: &ElementBounds,
     opts: &Options,
     kb_before: KbStats,
     kb_after: KbStats,
 ) -> Result<MeshResult, Error> {
+    let Outcome {
+        mut mesh,
+        mut trace,
+        mut vetoes,
+        mut stats,
+        area,
+    } = outcome;
     check::check_boundary_followed(&mesh)?;
-    compact_with_trace(&mut mesh, &mut trace);
+    compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     let t0 = Instant::now();
-    smoothing::smooth(&mut mesh, opts.smoothing_passes);
+    smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds);
     // where smoothing could not reach the bounds: the elements joined
     // up anew and the nodes round the changes smoothed again, a few
     // times while that changes something (the smoothing after a change
@@ -593,18 +601,18 @@ fn finish_mesh(
     let mut any_collapse = false;
     let mut last_changes: Option<Vec<u32>> = None;
     for _ in 0..CLEANUP_ROUNDS {
-        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref());
+        let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref(), bounds);
         stats.cleanup_flips += cleaned.flips;
         stats.cleanup_collapses += cleaned.collapses;
         any_collapse |= cleaned.collapses > 0;
         if touched.is_empty() {
             break;
         }
-        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched);
+        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
         last_changes = Some(touched);
     }
     if any_collapse {
-        compact_with_trace(&mut mesh, &mut trace);
+        compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }
     // the finished mesh cut open along its cracks, its regions found
     crate::cracks::open_cracks(&mut mesh);
@@ -613,7 +621,7 @@ fn finish_mesh(
     // both only read the mesh: side by side
     let (checked, quality) = std::thread::scope(|scope| {
         let checked = scope.spawn(|| check::check_mesh(&mesh, area));
-        let quality = quality::measure(&mesh);
+        let quality = quality::measure_within(&mesh, bounds);
         let checked = checked
             .join()
             .unwrap_or_else(|e| std::panic::resume_unwind(e));
@@ -634,6 +642,7 @@ fn finish_mesh(
     Ok(MeshResult {
         mesh,
         trace,
+        vetoes,
         stats,
         quality,
         kb_stats,

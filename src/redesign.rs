@@ -119,8 +119,10 @@ pub fn relations(
     let qa: [f64; 4] =
         std::array::from_fn(|i| corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]));
     let th = |fv: Fv| pm.front.angle(fv, &pm.mesh.nodes);
+    // the thresholds of what redesign is shown (bound/2, settings.rs)
+    let h = pm.host;
     let outer = |rel: &mut Vec<Relation>, node: ElementNode, deg: f64| {
-        if deg < 90.0 {
+        if deg < h.relation_corner {
             rel.push(Relation::OuterCorner {
                 node,
                 deg: deg_round(deg),
@@ -141,14 +143,14 @@ pub fn relations(
                 (ElementNode::N3, 2usize, lab.n5),
                 (ElementNode::N4, 3, lab.n4),
             ] {
-                if qa[i] < 90.0 || qa[i] > 120.0 {
+                if qa[i] < h.relation_corner || qa[i] > h.relation_inner_above {
                     rel.push(Relation::InnerCorner {
                         node,
                         deg: deg_round(qa[i]),
                     });
                 }
                 let left = th(fv) - qa[i];
-                if left < 90.0 {
+                if left < h.relation_corner {
                     rel.push(Relation::RemainingCorner {
                         node,
                         deg: deg_round(left),
@@ -166,7 +168,7 @@ pub fn relations(
         } else {
             ElementNode::N4
         };
-        let r = s;
+        let r = s * h.relation_reach;
         let mut near = std::mem::take(&mut pm.scratch);
         pm.front
             .edges_near(c - DVec2::splat(r), c + DVec2::splat(r), &mut near);

@@ -419,12 +419,14 @@ impl<'k> Repl<'k> {
             Ok(r) => {
                 writeln!(
                     out,
-                    "% the mesh is complete: {} quads, {} nodes, angles {:.1}..{:.1} deg, {:.1}% in [45, 135], {} fallback splits{}",
+                    "% the mesh is complete: {} quads, {} nodes, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}",
                     r.quality.quads,
                     r.mesh.nodes.len(),
                     r.quality.min_angle,
                     r.quality.max_angle,
                     r.quality.pct_45_135,
+                    r.quality.corner_window[0],
+                    r.quality.corner_window[1],
                     r.stats.fallback_splits,
                     if r.stats.triangle_fallbacks > 0 {
                         " (the rules stopped: meshed whole by the triangle fallback)"

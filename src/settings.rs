@@ -12,12 +12,23 @@ pub struct Settings {
     /// How many times at most the redesign rules correct one element
     /// (`bound(redesign_rounds, N)`).
     pub redesign_rounds: usize,
+    /// The bounds an element is judged by after the recursion: what
+    /// smoothing and clean-up aim for and what the summary reports.
+    pub element: ElementBounds,
+    /// The thresholds the host applies in the recursion.
+    pub host: HostBounds,
 }
 
 impl Settings {
     /// The settings of a strategy (feature names in the order they are
-    /// tried) and a number of redesign rounds (negative: none).
-    pub fn new(strategy: Vec<String>, redesign_rounds: f64) -> Settings {
+    /// tried), a number of redesign rounds (negative: none) and the
+    /// element bounds.
+    pub fn new(
+        strategy: Vec<String>,
+        redesign_rounds: f64,
+        element: ElementBounds,
+        host: HostBounds,
+    ) -> Settings {
         let rank = strategy
             .into_iter()
             .enumerate()
@@ -26,6 +37,8 @@ impl Settings {
         Settings {
             rank,
             redesign_rounds: redesign_rounds.max(0.0) as usize,
+            element,
+            host,
         }
     }
 
@@ -33,5 +46,259 @@ impl Settings {
     /// list comes after every listed one.
     pub fn rank(&self, feature: &str) -> u32 {
         *self.rank.get(feature).unwrap_or(&u32::MAX)
+    }
+}
+
+/// The bounds on an element's corners, shape and size against its
+/// neighbours (`bound(lower_corner, _)`, `upper_corner`, `max_aspect`,
+/// `max_taper`, `max_size_jump`): the targets of smoothing and clean-up,
+/// and the window the quality summary counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElementBounds {
+    /// The smallest good corner (degrees, below 90).
+    pub lower_corner: f64,
+    /// The largest good corner (degrees, above 90).
+    pub upper_corner: f64,
+    /// The largest good aspect ratio.
+    pub max_aspect: f64,
+    /// The largest good taper.
+    pub max_taper: f64,
+    /// The largest good size jump between neighbours (square root of
+    /// their area ratio).
+    pub max_size_jump: f64,
+    /// cos² of the lower corner, for telling a corner inside the window
+    /// without trigonometry (rounded to 1e-12, so 45 degrees gives 0.5
+    /// exactly).
+    pub cos2_lower: f64,
+    /// cos² of the upper corner, likewise.
+    pub cos2_upper: f64,
+}
+
+impl Default for ElementBounds {
+    /// The paper's bounds: corners in [45, 135], aspect ratio and taper
+    /// 10, size jump 2.
+    fn default() -> ElementBounds {
+        ElementBounds::new(45.0, 135.0, 10.0, 10.0, 2.0)
+            .expect("the built-in element bounds are consistent")
+    }
+}
+
+impl ElementBounds {
+    /// The bounds, or a sentence saying which is out of range: the corner
+    /// window must hold a right angle (0 < lower < 90 < upper < 180), the
+    /// others be at least 1.
+    pub fn new(
+        lower_corner: f64,
+        upper_corner: f64,
+        max_aspect: f64,
+        max_taper: f64,
+        max_size_jump: f64,
+    ) -> Result<ElementBounds, String> {
+        if !(lower_corner > 0.0 && lower_corner < 90.0) {
+            return Err(format!(
+                "bound(lower_corner, {lower_corner}) must be above 0 and below 90"
+            ));
+        }
+        if !(upper_corner > 90.0 && upper_corner < 180.0) {
+            return Err(format!(
+                "bound(upper_corner, {upper_corner}) must be above 90 and below 180"
+            ));
+        }
+        for (name, v) in [
+            ("max_aspect", max_aspect),
+            ("max_taper", max_taper),
+            ("max_size_jump", max_size_jump),
+        ] {
+            if !(v >= 1.0 && v.is_finite()) {
+                return Err(format!("bound({name}, {v}) must be a number of at least 1"));
+            }
+        }
+        let cos2 = |deg: f64| {
+            let c = deg.to_radians().cos();
+            (c * c * 1e12).round() / 1e12
+        };
+        Ok(ElementBounds {
+            lower_corner,
+            upper_corner,
+            max_aspect,
+            max_taper,
+            max_size_jump,
+            cos2_lower: cos2(lower_corner),
+            cos2_upper: cos2(upper_corner),
+        })
+    }
+
+    /// True iff a corner whose edge vectors have dot product `d` and
+    /// squared lengths `aa`, `bb` (convex) is inside the window, as
+    /// `d² <= cos² · aa · bb` on the side of a right angle it is on.
+    pub fn corner_inside(&self, d: f64, aa: f64, bb: f64) -> bool {
+        let c2 = if d > 0.0 {
+            self.cos2_lower
+        } else {
+            self.cos2_upper
+        };
+        d * d <= c2 * (aa * bb)
+    }
+
+    /// True iff a corner is clearly inside the window: as `corner_inside`
+    /// with a margin, so that measuring its angle would say the same.
+    pub fn corner_clearly_inside(&self, d: f64, aa: f64, bb: f64) -> bool {
+        let c2 = if d > 0.0 {
+            self.cos2_lower
+        } else {
+            self.cos2_upper
+        };
+        d * d < c2 * ((1.0 - 1e-9) * aa * bb)
+    }
+
+    /// How far a corner (degrees) is outside the window (0 inside).
+    pub fn corner_excess(&self, angle: f64) -> f64 {
+        (self.lower_corner - angle)
+            .max(angle - self.upper_corner)
+            .max(0.0)
+    }
+
+    /// True iff a corner (degrees) is inside the window.
+    pub fn corner_in_window(&self, angle: f64) -> bool {
+        (self.lower_corner..=self.upper_corner).contains(&angle)
+    }
+}
+
+/// The thresholds the host applies during the recursion, each a
+/// `bound/2` entry of kb/strategy.pl (the names below): the validity
+/// check before commit, which relations redesign is shown, and when a
+/// final pattern's inner node is searched for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostBounds {
+    /// `valid_corner`: an element's corners must be in [this, 180 - this]
+    /// degrees.
+    pub valid_corner: f64,
+    /// cos² of `valid_corner`, for telling a corner inside without
+    /// trigonometry.
+    pub cos2_valid_corner: f64,
+    /// `valid_edge`: the shortest element edge, as a share of the edge it
+    /// is built on.
+    pub valid_edge: f64,
+    /// `valid_clearance`: how close a new corner or edge may come to the
+    /// front, as a share of the edge it is built on.
+    pub valid_clearance: f64,
+    /// `min_front_angle`: the sharpest corner an element may leave the
+    /// remaining domain (degrees).
+    pub min_front_angle: f64,
+    /// `relation_corner`: an outer, remaining or inner corner below this
+    /// (degrees) is a relation redesign is shown.
+    pub relation_corner: f64,
+    /// `relation_inner_above`: an inner corner above this (degrees) is a
+    /// relation too.
+    pub relation_inner_above: f64,
+    /// `relation_reach`: front nodes and segments within this many
+    /// element sizes of a new corner are relations.
+    pub relation_reach: f64,
+    /// `centre_search_below`: a final pattern's inner node (Eq. 5, 6)
+    /// whose elements have a corner closer than this to 0 or 180 degrees
+    /// is moved to the best place of a search.
+    pub centre_search_below: f64,
+}
+
+impl Default for HostBounds {
+    /// The built-in values (kb/strategy.pl).
+    fn default() -> HostBounds {
+        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0])
+            .expect("the built-in host bounds are consistent")
+    }
+}
+
+impl HostBounds {
+    /// The names of the `bound/2` entries, in the order `new` takes them.
+    pub const NAMES: [&'static str; 8] = [
+        "valid_corner",
+        "valid_edge",
+        "valid_clearance",
+        "min_front_angle",
+        "relation_corner",
+        "relation_inner_above",
+        "relation_reach",
+        "centre_search_below",
+    ];
+
+    /// The bounds in the order of `NAMES`, or a sentence saying which is
+    /// out of range (angles within [0, 90) or [0, 180], shares and reach
+    /// not negative).
+    pub fn new(v: [f64; 8]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below] =
+            v;
+        let ranges = [
+            (0.0, 90.0),
+            (0.0, f64::MAX),
+            (0.0, f64::MAX),
+            (0.0, 180.0),
+            (0.0, 180.0),
+            (0.0, 180.0),
+            (0.0, f64::MAX),
+            (0.0, 90.0),
+        ];
+        for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
+            if !(x >= lo && x < hi) {
+                return Err(format!(
+                    "bound({name}, {x}) must be at least {lo} and below {hi}"
+                ));
+            }
+        }
+        let c = valid_corner.to_radians().cos();
+        Ok(HostBounds {
+            valid_corner,
+            cos2_valid_corner: c * c,
+            valid_edge,
+            valid_clearance,
+            min_front_angle,
+            relation_corner,
+            relation_inner_above,
+            relation_reach,
+            centre_search_below,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_window_has_cos_squared_one_half_on_both_sides() {
+        let b = ElementBounds::default();
+        assert_eq!(b.cos2_lower, 0.5);
+        assert_eq!(b.cos2_upper, 0.5);
+    }
+
+    #[test]
+    fn a_narrower_window_puts_a_corner_of_48_degrees_outside() {
+        let b = ElementBounds::new(50.0, 130.0, 10.0, 10.0, 2.0).unwrap();
+        let c = 48f64.to_radians();
+        // edge vectors (1, 0) and (cos c, sin c)
+        assert!(!b.corner_inside(c.cos(), 1.0, 1.0));
+        assert!(ElementBounds::default().corner_inside(c.cos(), 1.0, 1.0));
+        assert_eq!(b.corner_excess(48.0), 2.0);
+    }
+
+    #[test]
+    fn the_built_in_valid_corner_gives_the_cosine_squared_of_4_degrees() {
+        assert_eq!(
+            HostBounds::default().cos2_valid_corner,
+            0.995_134_034_370_785_1
+        );
+    }
+
+    #[test]
+    fn a_negative_reach_is_refused() {
+        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0];
+        v[6] = -1.0;
+        let e = HostBounds::new(v).unwrap_err();
+        assert!(e.contains("relation_reach"), "{e}");
+    }
+
+    #[test]
+    fn a_window_without_a_right_angle_is_refused() {
+        let e = ElementBounds::new(95.0, 135.0, 10.0, 10.0, 2.0).unwrap_err();
+        assert!(e.contains("lower_corner"), "{e}");
     }
 }

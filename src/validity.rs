@@ -1,6 +1,7 @@
 //! Validity before anything: every element is checked against the front
 //! before it is committed. It must be convex with every corner in
-//! [4, 176] degrees, no edge a sliver, no front edge crossing it, no
+//! [4, 176] degrees (the KB's `bound(valid_corner, 4)`, as each number
+//! here), no edge a sliver, no front edge crossing it, no
 //! front node inside it and, for a designed element, no new corner or
 //! edge so close to the front that a sliver is left between them.
 //! Orientation and crossing tests use robust predicates (geometry.rs).
@@ -14,13 +15,41 @@ use crate::geometry::{
 use crate::initial_design::{qnode_id, qpos, QNode};
 use crate::partial_mesh::PartialMesh;
 
-/// cos² 4°: a corner whose cosine squared is below this (with a margin)
-/// is within [4, 176] degrees.
-const COS_4_SQUARED: f64 = 0.995_134_034_370_785_1;
+/// Why the validity check refused an element (recorded in the trace as a
+/// veto, see report/trace.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Vetoed {
+    /// Not convex, or two corners at one node.
+    NotConvex,
+    /// A corner outside [4, 176] degrees (`bound(valid_corner, _)`).
+    Corner,
+    /// An edge shorter than a quarter of the base edge
+    /// (`bound(valid_edge, _)`) or the run's minimum.
+    ShortEdge,
+    /// A front edge crosses it, a front node is inside it, or a new
+    /// corner or edge comes too close to the front
+    /// (`bound(valid_clearance, _)`).
+    Front,
+    /// Committing it would leave a loop odd or degenerate, or the
+    /// remaining domain a spike (`bound(min_front_angle, _)`).
+    Loop,
+    /// An action the host cannot place as an element here.
+    NotPlaceable,
+}
 
-/// No element may leave the remaining domain a sharper corner than this
-/// (deg): a spike cannot be meshed.
-pub const MIN_FRONT_ANGLE: f64 = 12.0;
+impl Vetoed {
+    /// Its name in the trace.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Vetoed::NotConvex => "not_convex",
+            Vetoed::Corner => "corner_outside_valid_corner",
+            Vetoed::ShortEdge => "short_edge",
+            Vetoed::Front => "front_crossed_or_too_close",
+            Vetoed::Loop => "odd_loop_or_spike",
+            Vetoed::NotPlaceable => "not_placeable",
+        }
+    }
+}
 
 /// Counter-clockwise corner positions of an element.
 fn ccw(front: &Front, nodes: &[DVec2], q: &[QNode; 4], mirrored: bool) -> [DVec2; 4] {
@@ -33,11 +62,12 @@ fn ccw(front: &Front, nodes: &[DVec2], q: &[QNode; 4], mirrored: bool) -> [DVec2
 }
 
 /// Hard validity of a designed element (corners in labelled order,
-/// `mirrored` for the reading against the loop): a convex element with
-/// corners in [4, 176] degrees, every edge at least a quarter of the
-/// base edge and the run's minimum, and clear of the front (see
-/// `quad_clear`, with a gap of 0.15 of the base edge).
-pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bool {
+/// `mirrored` for the reading against the loop), by the KB's thresholds
+/// (`pm.host`; built in: a convex element with corners in [4, 176]
+/// degrees, every edge at least a quarter of the base edge and the run's
+/// minimum, and clear of the front, see `quad_clear`, with a gap of 0.15
+/// of the base edge). Err says why not.
+pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> Result<(), Vetoed> {
     let p = ccw(&pm.front, &pm.mesh.nodes, q, mirrored);
     let ids: Vec<Option<u32>> = {
         let v = q.map(|x| qnode_id(&pm.front, x));
@@ -49,33 +79,39 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> bo
     };
     for i in 0..4 {
         if orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]) <= 0.0 {
-            return false;
+            return Err(Vetoed::NotConvex);
         }
         if let (Some(a), Some(b)) = (ids[i], ids[(i + 1) % 4]) {
             if a == b {
-                return false;
+                return Err(Vetoed::NotConvex);
             }
         }
     }
-    // every corner in [4, 176] degrees: told without trigonometry where
-    // clearly so (|cos| below cos 4 with a margin), measured elsewhere
+    // every corner in [V, 180 - V] degrees: told without trigonometry
+    // where clearly so (|cos| below cos V with a margin), measured elsewhere
+    let h = pm.host;
     let clearly_open = (0..4).all(|i| {
         let a = p[(i + 1) % 4] - p[i];
         let b = p[(i + 3) % 4] - p[i];
         let d = a.dot(b);
-        d * d < COS_4_SQUARED * (1.0 - 1e-9) * a.length_squared() * b.length_squared()
+        d * d < h.cos2_valid_corner * (1.0 - 1e-9) * a.length_squared() * b.length_squared()
     });
-    if !clearly_open && quad_angles(p).iter().any(|&a| !(4.0..=176.0).contains(&a)) {
-        return false;
+    let corners = h.valid_corner..=180.0 - h.valid_corner;
+    if !clearly_open && quad_angles(p).iter().any(|a| !corners.contains(a)) {
+        return Err(Vetoed::Corner);
     }
     // No sliver: every edge at least a quarter of the base edge, so a
     // rule that keeps shrinking an element cannot run away.
     let pos = |x| qpos(&pm.front, &pm.mesh.nodes, x);
     let base = (pos(q[1]) - pos(q[0])).length();
-    if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (0.25 * base).max(pm.min_edge)) {
-        return false;
+    if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (h.valid_edge * base).max(pm.min_edge)) {
+        return Err(Vetoed::ShortEdge);
     }
-    quad_clear(pm, p, &ids, 0.15 * base)
+    if quad_clear(pm, p, &ids, h.valid_clearance * base) {
+        Ok(())
+    } else {
+        Err(Vetoed::Front)
+    }
 }
 
 /// True iff no front edge crosses the element `p` (counter-clockwise;

@@ -6,9 +6,11 @@ use glam::DVec2;
 
 use crate::element_quality::{sine_worst_around, sine_worst_around_under, worst_around};
 use crate::mesh::{Mesh, NodeKind};
+use crate::settings::ElementBounds;
 use crate::smoothing::compass_search_steps;
 
-/// A region's worst corner: (degrees past [45, 135], -smallest sine).
+/// A region's worst corner: (degrees past the corner window, -smallest
+/// sine).
 /// An operation on the mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Op {
@@ -27,6 +29,8 @@ pub(crate) struct Working<'m> {
     pub(crate) around: Vec<Vec<u32>>,
     pub(crate) alive: Vec<bool>,
     pub(crate) constrained: rustc_hash::FxHashSet<(u32, u32)>,
+    /// The corners, shapes and sizes aimed for.
+    pub(crate) bounds: ElementBounds,
 }
 
 impl Working<'_> {
@@ -63,24 +67,27 @@ impl Working<'_> {
     /// The worst corner over elements `qs` (infinite if one is not convex).
     pub(crate) fn worst_of(&self, qs: &[u32]) -> Worst {
         let pairs: Vec<(u32, u8)> = qs.iter().map(|&q| (q, 0)).collect();
-        worst_around(self.mesh, &pairs)
+        worst_around(self.mesh, &pairs, &self.bounds)
     }
 
     /// How far elements `qs` are past the paper's bounds on shape and size
-    /// as a share of each bound (aspect ratio and taper 10, size against a
-    /// neighbour's 2): at most 1 when within them.
+    /// as a share of each bound (aspect ratio, taper, size against a
+    /// neighbour's): at most 1 when within them.
     pub(crate) fn shape_excess(&self, qs: &[u32]) -> f64 {
         let area = |q: u32| crate::geometry::polygon_area(&self.mesh.quad_points(q as usize)).abs();
         let mut worst: f64 = 0.0;
         for &q in qs {
             let (aspect, taper) =
                 crate::element_quality::aspect_taper(self.mesh.quad_points(q as usize));
-            worst = worst.max(aspect / 10.0).max(taper / 10.0);
+            worst = worst
+                .max(aspect / self.bounds.max_aspect)
+                .max(taper / self.bounds.max_taper);
             let mine = area(q).max(1e-300);
             for k in 0..4 {
                 if let Some((o, _)) = self.across(q, k) {
                     let other = area(o).max(1e-300);
-                    worst = worst.max((mine / other).max(other / mine).sqrt() / 2.0);
+                    worst = worst
+                        .max((mine / other).max(other / mine).sqrt() / self.bounds.max_size_jump);
                 }
             }
         }
@@ -369,7 +376,7 @@ pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
 pub(crate) const COMPASS_STEPS: usize = 4;
 
 impl<'m> Working<'m> {
-    pub(crate) fn new(mesh: &'m mut Mesh) -> Working<'m> {
+    pub(crate) fn new(mesh: &'m mut Mesh, bounds: ElementBounds) -> Working<'m> {
         let mut constrained = rustc_hash::FxHashSet::default();
         for e in &mesh.boundary {
             constrained.insert((e.a.min(e.b), e.a.max(e.b)));
@@ -380,6 +387,7 @@ impl<'m> Working<'m> {
             around: Vec::new(),
             alive,
             constrained,
+            bounds,
         };
         w.index();
         w

@@ -8,7 +8,7 @@ use crate::features::deg_round;
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 use crate::mesh::NodeKind;
 use crate::partial_mesh::PartialMesh;
-use crate::report::trace::{Angles, TraceStep};
+use crate::report::trace::{Angles, By, TraceStep};
 use crate::validity::convex_ok;
 
 /// Splits loop `l` by the best chord between two of its nodes whose
@@ -145,6 +145,7 @@ pub fn chord_split(pm: &mut PartialMesh, l: u32, clearance: f64, strict: bool) -
         angles,
         feature: "stuck".into(),
         action: format!("split({k})"),
+        by: By::Chord,
         redesign: vec![],
         element: vec![],
     });

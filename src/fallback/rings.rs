@@ -5,8 +5,8 @@ use glam::DVec2;
 
 use crate::geometry::orient2d;
 use crate::mesh::NodeKind;
-use crate::partial_mesh::PartialMesh;
-use crate::report::trace::Angles;
+use crate::partial_mesh::{Closing, PartialMesh};
+use crate::report::trace::{Angles, By};
 use crate::validity::{convex_angles, distinct, quad_clear};
 
 /// The last resort for a loop the rules and chords cannot mesh: a
@@ -136,8 +136,19 @@ pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
             .collect();
         let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
         pm.stats.fallback_splits += 1;
+        pm.stats.rings += 1;
         let layer = pm.front.layer(fvs[0]) + 1;
-        pm.close_with(l, qs, &[], "stuck", "ring".into(), Angles::default());
+        pm.close_with(
+            l,
+            qs,
+            &[],
+            Closing {
+                feature: "stuck",
+                action: "ring".into(),
+                angles: Angles::default(),
+                by: By::Ring,
+            },
+        );
         pm.front.begin();
         let nl = pm.front.add_loop(&inner_ids, &vec![layer; n]);
         pm.front.commit(&pm.mesh.nodes);

@@ -4,7 +4,7 @@
 use crate::fallback::slits::zip_slits;
 use crate::front::Fv;
 use crate::partial_mesh::PartialMesh;
-use crate::report::trace::{Angles, TraceStep};
+use crate::report::trace::{Angles, By, TraceStep};
 
 /// Takes back every element that shares an edge with loop `l`; the
 /// loop grows round them. False if there is none.
@@ -89,6 +89,7 @@ pub fn unmesh_layer(pm: &mut PartialMesh, l: u32) -> Option<Vec<Fv>> {
             angles: Angles::default(),
             feature: "stuck".into(),
             action: "unmesh".into(),
+            by: By::Unmesh,
             redesign: vec![],
             element: q.iter().map(|&x| x as i64).collect(),
         });

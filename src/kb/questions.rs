@@ -14,7 +14,7 @@ use crate::kb::terms;
 use crate::kb::vocabulary::{
     Action, Context, Designed, FrontFacts, Pattern, PatternKind, Redesigned, Relation,
 };
-use crate::settings::Settings;
+use crate::settings::{ElementBounds, HostBounds, Settings};
 
 impl KnowledgeBase {
     /// The settings (`strategy/1`, `bound/2`), read once for a run.
@@ -22,7 +22,28 @@ impl KnowledgeBase {
         let strategy = self.first_binding(terms::STRATEGY_QUESTION, "S")?;
         let strategy = terms::strategy_answer(strategy)?;
         let rounds = self.bound("redesign_rounds")?;
-        Ok(Settings::new(strategy, rounds))
+        let element = ElementBounds::new(
+            self.bound("lower_corner")?,
+            self.bound("upper_corner")?,
+            self.bound("max_aspect")?,
+            self.bound("max_taper")?,
+            self.bound("max_size_jump")?,
+        )
+        .map_err(|why| KbError::Answer {
+            query: "bound/2".into(),
+            answer: why,
+            expected: "a usable set of element bounds".into(),
+        })?;
+        let mut host = [0.0; 8];
+        for (v, name) in host.iter_mut().zip(HostBounds::NAMES) {
+            *v = self.bound(name)?;
+        }
+        let host = HostBounds::new(host).map_err(|why| KbError::Answer {
+            query: "bound/2".into(),
+            answer: why,
+            expected: "a usable set of host thresholds".into(),
+        })?;
+        Ok(Settings::new(strategy, rounds, element, host))
     }
 
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {

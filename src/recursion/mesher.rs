@@ -20,9 +20,9 @@ use crate::mesh::{Mesh, NodeKind};
 use crate::partial_mesh::{MeshStats, PartialMesh};
 use crate::recursion::queue::{DesignQueue, QueuedDesign};
 use crate::redesign::{redesign, Redesign};
-use crate::report::trace::TraceStep;
+use crate::report::trace::{By, TraceStep, Veto};
 use crate::settings::Settings;
-use crate::validity::{element_valid, MIN_FRONT_ANGLE};
+use crate::validity::{element_valid, Vetoed};
 
 /// Why meshing stopped short.
 #[derive(Debug, thiserror::Error)]
@@ -76,6 +76,20 @@ impl Prepared {
 /// pass; past that, a run is going round in circles.
 const MAX_FALLBACK_PASSES: usize = 100;
 
+/// What a finished recursion hands over.
+pub struct Outcome {
+    /// The elements made.
+    pub mesh: Mesh,
+    /// The steps (kept when the trace is).
+    pub trace: Vec<TraceStep>,
+    /// The designs the validity check refused (kept with the trace).
+    pub vetoes: Vec<Veto>,
+    /// The counters.
+    pub stats: MeshStats,
+    /// The domain's area.
+    pub area: f64,
+}
+
 /// The meshing run.
 pub struct Mesher<'k> {
     kb: &'k mut KnowledgeBase,
@@ -107,7 +121,8 @@ impl<'k> Mesher<'k> {
             area,
             set,
         } = prepared;
-        let (pm, expected) = PartialMesh::new(disc, size, area);
+        let (mut pm, expected) = PartialMesh::new(disc, size, area);
+        pm.host = set.host;
         Mesher {
             kb,
             pm,
@@ -133,6 +148,11 @@ impl<'k> Mesher<'k> {
         self.pm.stats
     }
 
+    /// The settings in force, as read from the KB.
+    pub fn settings(&self) -> &Settings {
+        &self.set
+    }
+
     /// Whether steps are recorded in the trace (they are always counted).
     pub fn set_record_trace(&mut self, on: bool) {
         self.pm.record_trace = on;
@@ -145,16 +165,18 @@ impl<'k> Mesher<'k> {
     }
 
     /// Ends a run whose recursion is done: frees what only the recursion
-    /// needs and hands over the mesh, the trace, the counters and the
+    /// needs and hands over the mesh, the trace (steps and vetoes), the
+    /// counters and the
     /// domain's area. The run is left empty.
-    pub fn take_outcome(&mut self) -> (Mesh, Vec<TraceStep>, MeshStats, f64) {
+    pub fn take_outcome(&mut self) -> Outcome {
         self.release_working_state();
-        (
-            std::mem::take(&mut self.pm.mesh),
-            std::mem::take(&mut self.pm.trace),
-            self.pm.stats,
-            self.pm.area,
-        )
+        Outcome {
+            mesh: std::mem::take(&mut self.pm.mesh),
+            trace: std::mem::take(&mut self.pm.trace),
+            vetoes: std::mem::take(&mut self.pm.vetoes),
+            stats: self.pm.stats,
+            area: self.pm.area,
+        }
     }
 
     /// The boundary features of the current front, as the KB sees them.
@@ -316,6 +338,7 @@ impl<'k> Mesher<'k> {
     /// knowledge base changed (a file was consulted mid-run).
     pub fn kb_changed(&mut self) -> Result<(), MeshError> {
         self.set = self.kb.settings()?;
+        self.pm.host = self.set.host;
         self.queue.clear();
         if !self.started {
             return Ok(());
@@ -358,24 +381,43 @@ impl<'k> Mesher<'k> {
         let Some(mut el) = el else {
             return Ok(false);
         };
-        if !element_valid(&mut self.pm, &el, lab.mirrored) {
+        let edge_nodes = (self.pm.front.node(lab.n1), self.pm.front.node(lab.n2));
+        // each refusal of the validity check is counted and traced
+        let veto = |pm: &mut PartialMesh, why: Vetoed, outcome: &'static str| {
+            pm.note_veto(|before_step| Veto {
+                before_step,
+                edge: [edge_nodes.0 as i64, edge_nodes.1 as i64],
+                feature: feature.to_string(),
+                action: action.to_string(),
+                reason: why.reason(),
+                outcome,
+            })
+        };
+        if let Err(why) = element_valid(&mut self.pm, &el, lab.mirrored) {
             // the merge made it invalid: try without
             if merges.iter().any(|m| m.is_some()) {
                 let Some(plain) = element(&self.pm.front, &self.pm.mesh.nodes, &action, &lab)
                 else {
+                    veto(&mut self.pm, why, "nothing");
                     return Ok(false);
                 };
-                if !element_valid(&mut self.pm, &plain, lab.mirrored) {
+                if let Err(why) = element_valid(&mut self.pm, &plain, lab.mirrored) {
+                    veto(&mut self.pm, why, "nothing");
                     return Ok(false);
                 }
+                veto(&mut self.pm, why, "placed_unmerged");
                 el = plain;
             } else {
+                veto(&mut self.pm, why, "nothing");
                 return Ok(false);
             }
         }
-        let edge_nodes = (self.pm.front.node(lab.n1), self.pm.front.node(lab.n2));
-        let Some(ids) = self.commit_element(&el, &lab, &action)? else {
-            return Ok(false);
+        let ids = match self.commit_element(&el, &lab, &action)? {
+            Ok(ids) => ids,
+            Err(why) => {
+                veto(&mut self.pm, why, "nothing");
+                return Ok(false);
+            }
         };
         self.pm.stats.designed += 1;
         self.pm.note_step(|step| TraceStep {
@@ -384,6 +426,7 @@ impl<'k> Mesher<'k> {
             angles: angle_map(&angles),
             feature: feature.to_string(),
             action: action.to_string(),
+            by: By::Rule,
             redesign: fired,
             element: ids.iter().map(|&x| x as i64).collect(),
         });
@@ -391,13 +434,13 @@ impl<'k> Mesher<'k> {
     }
 
     /// Commits an element: new nodes, the front path replaced, pinches
-    /// split. Undone (None) if a loop would be left odd or degenerate.
+    /// split. Undone (Err) if a loop would be left odd or degenerate.
     fn commit_element(
         &mut self,
         el: &[QNode; 4],
         lab: &Labels,
         action: &Action,
-    ) -> Result<Option<[u32; 4]>, MeshError> {
+    ) -> Result<Result<[u32; 4], Vetoed>, MeshError> {
         let nodes_before = self.pm.mesh.nodes.len();
         let layer = self.pm.front.layer(lab.n1).max(self.pm.front.layer(lab.n2)) + 1;
         let id = |q: QNode, mesh: &mut Mesh, front: &Front| -> u32 {
@@ -416,7 +459,7 @@ impl<'k> Mesher<'k> {
             Action::A1 { .. } => (lab.n1, lab.n2, vec![n4, n3]),
             Action::A2 { .. } | Action::A4 => (lab.n4, lab.n2, vec![n3]),
             Action::A3 => (lab.n4, lab.n5, vec![]),
-            _ => return Ok(None),
+            _ => return Ok(Err(Vetoed::NotPlaceable)),
         };
         let (a, b, mid) = if lab.mirrored {
             (b, a, mid.into_iter().rev().collect())
@@ -464,18 +507,15 @@ impl<'k> Mesher<'k> {
             // no spike: the remaining domain keeps a usable angle at every
             // occurrence the element touched
             ok = ok
-                && self
-                    .pm
-                    .front
-                    .touched_live()
-                    .iter()
-                    .all(|&fv| self.pm.front.angle(fv, &self.pm.mesh.nodes) > MIN_FRONT_ANGLE);
+                && self.pm.front.touched_live().iter().all(|&fv| {
+                    self.pm.front.angle(fv, &self.pm.mesh.nodes) > self.pm.host.min_front_angle
+                });
         }
         if !ok {
             self.pm.front.rollback();
             self.pm.mesh.nodes.truncate(nodes_before);
             self.pm.mesh.kinds.truncate(nodes_before);
-            return Ok(None);
+            return Ok(Err(Vetoed::Loop));
         }
         self.pm.front.commit(&self.pm.mesh.nodes);
         let ids = if lab.mirrored {
@@ -491,7 +531,7 @@ impl<'k> Mesher<'k> {
             self.pm.stats.merges += 1;
         }
         self.after_change()?;
-        Ok(Some(ids))
+        Ok(Ok(ids))
     }
 
     /// After a committed change: close the loops it left with four or six

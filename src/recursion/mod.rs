@@ -6,4 +6,4 @@
 mod mesher;
 mod queue;
 
-pub use mesher::{MeshError, Mesher, Prepared};
+pub use mesher::{MeshError, Mesher, Outcome, Prepared};

@@ -8,6 +8,7 @@ use rustc_hash::FxHashMap;
 use crate::element_quality::{aspect_taper, scaled_jacobian};
 use crate::geometry::quad_angles;
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 
 /// Quality figures of a quad mesh.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -18,7 +19,12 @@ pub struct Quality {
     pub min_angle: f64,
     /// Largest corner angle (deg).
     pub max_angle: f64,
-    /// Share of quads with every angle in [45, 135], in percent.
+    /// The corner window the share below counts (degrees): the KB's
+    /// `bound(lower_corner, _)` and `bound(upper_corner, _)`, [45, 135]
+    /// built in.
+    pub corner_window: [f64; 2],
+    /// Share of quads with every angle in `corner_window`, in percent
+    /// (named for the built-in window).
     pub pct_45_135: f64,
     /// Smallest scaled Jacobian.
     pub min_scaled_jacobian: f64,
@@ -30,12 +36,20 @@ pub struct Quality {
     pub max_size_jump: f64,
 }
 
-/// The quality figures of a mesh.
+/// The quality figures of a mesh, its corners counted against the
+/// built-in window [45, 135].
 pub fn measure(mesh: &Mesh) -> Quality {
+    measure_within(mesh, &ElementBounds::default())
+}
+
+/// The quality figures of a mesh, its corners counted against the window
+/// of `bounds` (the KB's, for a run).
+pub(crate) fn measure_within(mesh: &Mesh, bounds: &ElementBounds) -> Quality {
     let mut q = Quality {
         quads: mesh.quads.len(),
         min_angle: 180.0,
         max_angle: 0.0,
+        corner_window: [bounds.lower_corner, bounds.upper_corner],
         pct_45_135: 0.0,
         min_scaled_jacobian: 1.0,
         max_aspect: 1.0,
@@ -52,7 +66,7 @@ pub fn measure(mesh: &Mesh) -> Quality {
             .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
         q.min_angle = q.min_angle.min(lo);
         q.max_angle = q.max_angle.max(hi);
-        if lo >= 45.0 && hi <= 135.0 {
+        if lo >= bounds.lower_corner && hi <= bounds.upper_corner {
             good += 1;
         }
         q.min_scaled_jacobian = q.min_scaled_jacobian.min(scaled_jacobian(p));

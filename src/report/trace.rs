@@ -1,5 +1,6 @@
 //! The inference trace: one record per element made (and per fallback
-//! split), written as JSON Lines.
+//! split), each saying who made it, and one per design the host's
+//! validity check vetoed; written as JSON Lines.
 
 use serde::ser::SerializeMap;
 use serde::{Serialize, Serializer};
@@ -33,6 +34,88 @@ impl Serialize for Angles {
     }
 }
 
+/// Who made an element (or, for `Chord` and `Unmesh`, changed the
+/// front without one): the KB's rules, or one of the host's fallbacks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum By {
+    /// A design rule of the KB (with its redesign rules).
+    Rule,
+    /// A final pattern of the KB (a 4- or 6-segment loop closed).
+    Pattern,
+    /// The fallback's loop subdivision: a loop split by a chord.
+    Chord,
+    /// The fallback's ring of elements round a convex inner loop.
+    Ring,
+    /// The fallback that takes elements back to give a stuck loop room.
+    Unmesh,
+    /// The last resort: the whole domain by triangles split into quads.
+    Triangles,
+}
+
+impl By {
+    /// Its name in the trace.
+    pub fn name(self) -> &'static str {
+        match self {
+            By::Rule => "rule",
+            By::Pattern => "pattern",
+            By::Chord => "chord",
+            By::Ring => "ring",
+            By::Unmesh => "unmesh",
+            By::Triangles => "triangles",
+        }
+    }
+}
+
+/// A design the host's validity check refused before commit.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Veto {
+    /// The number of the step that came next (the vetoes before step n
+    /// are written before it).
+    pub before_step: usize,
+    /// The front edge the design was for (node ids of the output mesh).
+    pub edge: [i64; 2],
+    /// The feature the KB recognised there.
+    pub feature: String,
+    /// The action (after redesign) that was refused.
+    pub action: String,
+    /// Why (see validity.rs).
+    pub reason: &'static str,
+    /// What the host did instead: `nothing` (the edge waits for another
+    /// design), or `placed_unmerged` (a merge vetoed, the element placed
+    /// without it: the step's redesign list still names the merge rule).
+    pub outcome: &'static str,
+}
+
+impl Veto {
+    /// One line of JSON, `{"veto": {...}}`.
+    pub fn to_json_line(&self) -> String {
+        serde_json::to_string(&serde_json::json!({ "veto": self })).unwrap_or_default()
+    }
+}
+
+/// A run's trace as JSON Lines: each step after the vetoes that came
+/// before it, the vetoes after the last step at the end.
+pub fn json_lines(steps: &[TraceStep], vetoes: &[Veto]) -> String {
+    {
+        let mut text = String::new();
+        let mut vetoes = vetoes.iter().peekable();
+        for step in steps {
+            while let Some(v) = vetoes.next_if(|v| v.before_step <= step.step) {
+                text.push_str(&v.to_json_line());
+                text.push('\n');
+            }
+            text.push_str(&step.to_json_line());
+            text.push('\n');
+        }
+        for v in vetoes {
+            text.push_str(&v.to_json_line());
+            text.push('\n');
+        }
+        text
+    }
+}
+
 /// One step of the inference.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TraceStep {
@@ -49,6 +132,8 @@ pub struct TraceStep {
     pub feature: String,
     /// The action, as the KB stated it (after redesign).
     pub action: String,
+    /// Who made the element.
+    pub by: By,
     /// The redesign rules that fired, in order.
     pub redesign: Vec<String>,
     /// The element's four node ids (counter-clockwise); empty for a split.
@@ -71,11 +156,12 @@ impl TraceStep {
             format!(" redesign {}", self.redesign.join(","))
         };
         format!(
-            "{:>3} {:?} {} -> {} {}{} {:?}",
+            "{:>3} {:?} {} -> {} by {} {}{} {:?}",
             self.step,
             self.edge,
             self.feature,
             self.action,
+            self.by.name(),
             angles.join(" "),
             redesign,
             self.element

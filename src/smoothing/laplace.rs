@@ -9,6 +9,7 @@ use glam::DVec2;
 
 use crate::element_quality::badness;
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
 
 pub(crate) fn laplace_sweeps(
@@ -16,6 +17,7 @@ pub(crate) fn laplace_sweeps(
     passes: usize,
     nodes: &Nodes,
     dirty: &mut [bool],
+    bounds: &ElementBounds,
 ) -> usize {
     let around = nodes.around;
     // only dirty nodes are looked at: the same mesh as looking at all
@@ -45,14 +47,14 @@ pub(crate) fn laplace_sweeps(
             }
             let before = around[n]
                 .iter()
-                .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                .map(|&(q, _)| badness(mesh.quad_points(q as usize), bounds))
                 .fold(0.0, f64::max);
             // try the full move, then half of it
             for t in [1.0, 0.5] {
                 mesh.nodes[n] = old + (target - old) * t;
                 let after = around[n]
                     .iter()
-                    .map(|&(q, _)| badness(mesh.quad_points(q as usize)))
+                    .map(|&(q, _)| badness(mesh.quad_points(q as usize), bounds))
                     .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;

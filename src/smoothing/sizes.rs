@@ -1,10 +1,12 @@
-//! Evening out sizes and shapes where they break the paper's bounds
-//! (size jump 2 between neighbours, aspect ratio and taper 10).
+//! Evening out sizes and shapes where they break the KB's bounds (size
+//! jump between neighbours, aspect ratio and taper: 2, 10 and 10 unless
+//! `bound/2` says otherwise).
 
 use glam::DVec2;
 
 use crate::element_quality::{corners_outside, quad_area, size_shape_excess, worst_around};
 use crate::mesh::{Mesh, NodeKind};
+use crate::settings::ElementBounds;
 use crate::smoothing::compass::compass_search_together;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
 
@@ -14,6 +16,7 @@ pub(crate) fn even_out_sweeps(
     nodes: &Nodes,
     neighbours: &[[Option<u32>; 4]],
     dirty: &mut [bool],
+    bounds: &ElementBounds,
 ) -> usize {
     let around = nodes.around;
     let mut area: Vec<f64> = (0..mesh.quads.len() as u32)
@@ -27,12 +30,12 @@ pub(crate) fn even_out_sweeps(
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
-            let own = excess_round(mesh, &area, neighbours, &around[n]);
+            let own = excess_round(mesh, &area, neighbours, &around[n], bounds);
             if own <= 0.95 {
                 continue; // moving n could only make its elements worse
             }
             let mut moved_nodes = Vec::new();
-            let left = match even_out_move(mesh, &[n], &around[n], &area, neighbours) {
+            let left = match even_out_move(mesh, &[n], &around[n], &area, neighbours, bounds) {
                 Some(left) => {
                     moved_nodes.push(n);
                     left
@@ -43,7 +46,7 @@ pub(crate) fn even_out_sweeps(
                 // still past a bound: n is held by a corner at the edge
                 // of the window; try it with a neighbour, both moving
                 // together (an edge of the element shifted)
-                if let Some(m) = even_out_pair(mesh, n, nodes, &area, neighbours) {
+                if let Some(m) = even_out_pair(mesh, n, nodes, &area, neighbours, bounds) {
                     moved_nodes.extend([n, m]);
                 }
             }
@@ -74,8 +77,10 @@ pub(crate) fn excess_round(
     area: &[f64],
     neighbours: &[[Option<u32>; 4]],
     region: &[(u32, u8)],
+    bounds: &ElementBounds,
 ) -> f64 {
-    excess_round_under(mesh, area, neighbours, region, f64::INFINITY).unwrap_or(f64::INFINITY)
+    excess_round_under(mesh, area, neighbours, region, f64::INFINITY, bounds)
+        .unwrap_or(f64::INFINITY)
 }
 
 /// The region's areas measured once an evaluation (a region is rarely
@@ -91,6 +96,7 @@ pub(crate) fn excess_round_under(
     neighbours: &[[Option<u32>; 4]],
     region: &[(u32, u8)],
     bound: f64,
+    bounds: &ElementBounds,
 ) -> Option<f64> {
     let mut fresh = [0.0; REGION_AREAS];
     for (slot, &(q, _)) in fresh.iter_mut().zip(region) {
@@ -103,7 +109,7 @@ pub(crate) fn excess_round_under(
     };
     let mut worst = 0.0;
     for &(q, _) in region {
-        let e = size_shape_excess(mesh, q, &neighbours[q as usize], &area_of);
+        let e = size_shape_excess(mesh, q, &neighbours[q as usize], &area_of, bounds);
         if e >= bound {
             return None;
         }
@@ -114,14 +120,15 @@ pub(crate) fn excess_round_under(
 
 /// Moves the nodes `ns` together to where the size and shape excess of
 /// their elements (`region`) is least, without a corner there leaving
-/// [45, 135] further or getting much sharper than it was. Returns the
-/// excess left if they moved.
+/// the corner window further or getting much sharper than it was.
+/// Returns the excess left if they moved.
 pub(crate) fn even_out_move(
     mesh: &mut Mesh,
     ns: &[usize],
     region: &[(u32, u8)],
     area: &[f64],
     neighbours: &[[Option<u32>; 4]],
+    bounds: &ElementBounds,
 ) -> Option<f64> {
     let inside = |f: &u32| region.iter().any(|&(q, _)| q == *f);
     // what moving them cannot change: the shapes of the elements next to
@@ -132,15 +139,15 @@ pub(crate) fn even_out_move(
         .filter(|f| !inside(f))
         .map(|f| {
             let others = neighbours[f as usize].map(|g| g.filter(|g| !inside(g)));
-            size_shape_excess(mesh, f, &others, &|q| area[q as usize])
+            size_shape_excess(mesh, f, &others, &|q| area[q as usize], bounds)
         })
         .fold(0.0, f64::max);
-    let start_excess = excess_round(mesh, area, neighbours, region).max(fixed);
+    let start_excess = excess_round(mesh, area, neighbours, region, bounds).max(fixed);
     if fixed >= start_excess - 1e-6 {
         return None; // the worst is out of reach: no place does better
     }
-    let start = worst_around(mesh, region);
-    let start_outside = corners_outside(mesh, region);
+    let start = worst_around(mesh, region, bounds);
+    let start_outside = corners_outside(mesh, region, bounds);
     let min_sin = (-start.1).min(0.6);
     let olds: Vec<DVec2> = ns.iter().map(|&n| mesh.nodes[n]).collect();
     let best = compass_search_together(
@@ -151,14 +158,15 @@ pub(crate) fn even_out_move(
         |m, best| {
             // the excess first: most places are no better, and the
             // corners need not be looked at there
-            let e = excess_round_under(m, area, neighbours, region, best - 1e-6)?.max(fixed);
+            let e =
+                excess_round_under(m, area, neighbours, region, best - 1e-6, bounds)?.max(fixed);
             if e >= best - 1e-6 {
                 return None;
             }
-            let w = worst_around(m, region);
+            let w = worst_around(m, region, bounds);
             let allowed = w.0 <= start.0 + 1e-9
                 && -w.1 >= min_sin
-                && corners_outside(m, region) <= start_outside;
+                && corners_outside(m, region, bounds) <= start_outside;
             allowed.then_some(e)
         },
         |e, best| e < best - 1e-6,
@@ -170,7 +178,7 @@ pub(crate) fn even_out_move(
     for (&n, &o) in ns.iter().zip(&olds) {
         mesh.nodes[n] = o + (best - olds[0]);
     }
-    Some(excess_round(mesh, area, neighbours, region))
+    Some(excess_round(mesh, area, neighbours, region, bounds))
 }
 
 /// Makes the best joint move of node `n` with one of the free nodes it
@@ -182,6 +190,7 @@ pub(crate) fn even_out_pair(
     nodes: &Nodes,
     area: &[f64],
     neighbours: &[[Option<u32>; 4]],
+    bounds: &ElementBounds,
 ) -> Option<usize> {
     let around = nodes.around;
     let mut partners: Vec<usize> = around[n]
@@ -204,7 +213,7 @@ pub(crate) fn even_out_pair(
                 .iter()
                 .filter(|x| !around[n].iter().any(|y| y.0 == x.0)),
         );
-        if let Some(left) = even_out_move(mesh, &[n, m], &region, area, neighbours) {
+        if let Some(left) = even_out_move(mesh, &[n, m], &region, area, neighbours, bounds) {
             if best.is_none_or(|b| left < b.1 - 1e-6) {
                 best = Some((m, left, [mesh.nodes[n], mesh.nodes[m]]));
             }

@@ -2,6 +2,7 @@
 //! evening out of sizes, over the whole mesh or round a few changes.
 
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 use crate::smoothing::laplace::laplace_sweeps;
 use crate::smoothing::sizes::even_out_sweeps;
 use crate::smoothing::strips::{across, element_neighbours, node_elements, sweep_in_strips, Nodes};
@@ -10,18 +11,31 @@ use crate::smoothing::untangle::untangle_sweeps;
 /// The smoothing stage: `laplace_passes` sweeps of guarded Laplace, then
 /// the angle clean-up and the evening out of sizes, 10 sweeps each; a
 /// large mesh strip by strip (see `sweep_in_strips`), all three on a strip
-/// before the next. Returns the moves kept.
-pub fn smooth(mesh: &mut Mesh, laplace_passes: usize) -> usize {
+/// before the next. The corners, shapes and sizes aimed for are
+/// `bounds`. Returns the moves kept.
+pub fn smooth(mesh: &mut Mesh, laplace_passes: usize, bounds: &ElementBounds) -> usize {
     let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh, &around);
     sweep_in_strips(mesh, around, |mesh, nodes, dirty| {
-        all_sweeps(mesh, [laplace_passes, 10], nodes, &neighbours, dirty)
+        all_sweeps(
+            mesh,
+            [laplace_passes, 10],
+            nodes,
+            &neighbours,
+            dirty,
+            bounds,
+        )
     })
 }
 
 /// The smoothing stage again, on the nodes within a few elements of
 /// `near` only: after a change there, the rest is as it was.
-pub fn smooth_near(mesh: &mut Mesh, laplace_passes: usize, near: &[u32]) -> usize {
+pub fn smooth_near(
+    mesh: &mut Mesh,
+    laplace_passes: usize,
+    near: &[u32],
+    bounds: &ElementBounds,
+) -> usize {
     let around = node_elements(mesh);
     let mut band = vec![false; mesh.nodes.len()];
     let mut visit: Vec<u32> = near.to_vec();
@@ -67,7 +81,14 @@ pub fn smooth_near(mesh: &mut Mesh, laplace_passes: usize, near: &[u32]) -> usiz
         visit: &visit,
     };
     let mut dirty = band;
-    all_sweeps(mesh, [laplace_passes, 4], &nodes, &neighbours, &mut dirty)
+    all_sweeps(
+        mesh,
+        [laplace_passes, 4],
+        &nodes,
+        &neighbours,
+        &mut dirty,
+        bounds,
+    )
 }
 
 /// The three sweeps of the stage in turn over `nodes`, each from the
@@ -79,6 +100,7 @@ pub(crate) fn all_sweeps(
     nodes: &Nodes,
     neighbours: &[[Option<u32>; 4]],
     dirty: &mut [bool],
+    bounds: &ElementBounds,
 ) -> usize {
     let start: Vec<bool> = nodes.visit.iter().map(|&i| dirty[i as usize]).collect();
     let restart = |dirty: &mut [bool]| {
@@ -86,9 +108,9 @@ pub(crate) fn all_sweeps(
             dirty[i as usize] = d;
         }
     };
-    let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty);
+    let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty, bounds);
     restart(dirty);
-    moved += untangle_sweeps(mesh, passes, nodes, dirty);
+    moved += untangle_sweeps(mesh, passes, nodes, dirty, bounds);
     restart(dirty);
-    moved + even_out_sweeps(mesh, passes, nodes, neighbours, dirty)
+    moved + even_out_sweeps(mesh, passes, nodes, neighbours, dirty, bounds)
 }

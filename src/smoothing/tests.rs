@@ -5,6 +5,7 @@ use glam::DVec2;
 use crate::element_quality::badness;
 use crate::geometry::quad_angles;
 use crate::mesh::{Mesh, NodeKind};
+use crate::settings::ElementBounds;
 use crate::smoothing::laplace::*;
 use crate::smoothing::sizes::*;
 use crate::smoothing::stage::*;
@@ -15,7 +16,7 @@ use crate::smoothing::untangle::*;
 /// were kept in the last sweep.
 fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     sweep_in_strips(mesh, node_elements(mesh), |mesh, nodes, dirty| {
-        laplace_sweeps(mesh, passes, nodes, dirty)
+        laplace_sweeps(mesh, passes, nodes, dirty, &ElementBounds::default())
     })
 }
 
@@ -25,7 +26,7 @@ fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
 /// than it was, never inverts one. Returns the moves kept.
 fn untangle_angles(mesh: &mut Mesh, passes: usize) -> usize {
     sweep_in_strips(mesh, node_elements(mesh), |mesh, nodes, dirty| {
-        untangle_sweeps(mesh, passes, nodes, dirty)
+        untangle_sweeps(mesh, passes, nodes, dirty, &ElementBounds::default())
     })
 }
 
@@ -40,7 +41,14 @@ fn even_out_sizes(mesh: &mut Mesh, passes: usize) -> usize {
     let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh, &around);
     sweep_in_strips(mesh, around, |mesh, nodes, dirty| {
-        even_out_sweeps(mesh, passes, nodes, &neighbours, dirty)
+        even_out_sweeps(
+            mesh,
+            passes,
+            nodes,
+            &neighbours,
+            dirty,
+            &ElementBounds::default(),
+        )
     })
 }
 
@@ -92,7 +100,7 @@ fn a_size_jump_past_two_is_evened_out() {
     };
     let worst_corner = |m: &Mesh| {
         (0..4)
-            .map(|q| badness(m.quad_points(q)))
+            .map(|q| badness(m.quad_points(q), &ElementBounds::default()))
             .fold(0.0, f64::max)
     };
     let corner_before = worst_corner(&m);
@@ -176,7 +184,8 @@ fn a_large_mesh_is_smoothed_in_strips_seams_included() {
             assert_eq!(*p, grid[i]);
         }
     }
-    assert!((0..m.quads.len()).all(|q| badness(m.quad_points(q)).is_finite()));
+    assert!((0..m.quads.len())
+        .all(|q| badness(m.quad_points(q), &ElementBounds::default()).is_finite()));
 }
 
 /// The largest size jump between neighbours (the square root of
@@ -219,7 +228,7 @@ fn a_size_jump_one_node_cannot_even_out_is_evened_out_by_two() {
     }
     let worst_corner = |m: &Mesh| {
         (0..m.quads.len())
-            .map(|q| badness(m.quad_points(q)))
+            .map(|q| badness(m.quad_points(q), &ElementBounds::default()))
             .fold(0.0, f64::max)
     };
     let corner_before = worst_corner(&m);
@@ -238,7 +247,14 @@ fn a_strip_comes_out_the_same_whichever_thread_sweeps_it() {
     let around = node_elements(&m);
     let neighbours = element_neighbours(&m, &around);
     let stage = |mesh: &mut Mesh, nodes: &Nodes, dirty: &mut [bool]| {
-        all_sweeps(mesh, [5, 5], nodes, &neighbours, dirty)
+        all_sweeps(
+            mesh,
+            [5, 5],
+            nodes,
+            &neighbours,
+            dirty,
+            &ElementBounds::default(),
+        )
     };
     let mut alone = m.clone();
     let mut shared = m.clone();
@@ -256,7 +272,14 @@ fn bands_far_enough_apart_come_out_as_swept_together() {
     let around = node_elements(&m);
     let neighbours = element_neighbours(&m, &around);
     let stage = |mesh: &mut Mesh, nodes: &Nodes, dirty: &mut [bool]| {
-        all_sweeps(mesh, [5, 5], nodes, &neighbours, dirty)
+        all_sweeps(
+            mesh,
+            [5, 5],
+            nodes,
+            &neighbours,
+            dirty,
+            &ElementBounds::default(),
+        )
     };
     let columns = |a: usize, b: usize| -> Vec<bool> {
         (0..m.nodes.len())

@@ -1,9 +1,10 @@
 //! Untangling: each free node next to an element with a corner outside
-//! [45, 135] moves, by a compass search, to where the worst corner round
+//! the window (`bound/2`'s lower and upper corner) moves, by a compass search, to where the worst corner round
 //! it is best.
 
 use crate::element_quality::{corners_fine, worst_around, worst_around_under};
 use crate::mesh::Mesh;
+use crate::settings::ElementBounds;
 use crate::smoothing::compass::compass_search;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
 
@@ -12,6 +13,7 @@ pub(crate) fn untangle_sweeps(
     passes: usize,
     nodes: &Nodes,
     dirty: &mut [bool],
+    bounds: &ElementBounds,
 ) -> usize {
     let around = nodes.around;
     let mut moved = 0;
@@ -22,10 +24,10 @@ pub(crate) fn untangle_sweeps(
             if !take_free_dirty(mesh, nodes, dirty, n) {
                 continue;
             }
-            if corners_fine(mesh, &around[n]) {
+            if corners_fine(mesh, &around[n], bounds) {
                 continue;
             }
-            let start = worst_around(mesh, &around[n]);
+            let start = worst_around(mesh, &around[n], bounds);
             if start.0 == 0.0 && start.1 < -0.8 {
                 continue; // every corner round it is fine
             }
@@ -35,7 +37,7 @@ pub(crate) fn untangle_sweeps(
                 n,
                 &around[n],
                 start,
-                |m, best| worst_around_under(m, &around[n], best),
+                |m, best| worst_around_under(m, &around[n], best, bounds),
                 |w, best| w < best,
             );
             mesh.nodes[n] = best;

@@ -1,0 +1,66 @@
+//! The KB's corner bounds are obeyed after the recursion too: a `--kb`
+//! file narrowing the window to [50, 130] makes smoothing and clean-up aim
+//! for it, and the summary counts the share inside the window in force.
+
+use freemesh::{mesh_domain, Domain, KnowledgeBase, Mesh, MeshResult, Options};
+
+const PLATE: &str = "tests/bounds/plate-holes.json";
+
+/// The share of quads (percent) with every corner in [lo, hi] degrees.
+fn share_within(mesh: &Mesh, lo: f64, hi: f64) -> f64 {
+    let good = (0..mesh.quads.len())
+        .filter(|&q| {
+            let p = mesh.quad_points(q);
+            (0..4).all(|i| {
+                let a = p[(i + 1) % 4] - p[i];
+                let b = p[(i + 3) % 4] - p[i];
+                let deg = a.perp_dot(b).atan2(a.dot(b)).to_degrees();
+                (lo..=hi).contains(&deg)
+            })
+        })
+        .count();
+    100.0 * good as f64 / mesh.quads.len() as f64
+}
+
+fn mesh_plate(kb_file: Option<&str>) -> MeshResult {
+    let domain = Domain::from_file(PLATE).expect("the plate domain");
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB");
+    if let Some(f) = kb_file {
+        kb.consult_file(f).expect("the bounds file");
+    }
+    mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).expect("a mesh")
+}
+
+#[test]
+fn a_narrower_corner_window_gives_more_quads_inside_it_and_is_the_one_reported() {
+    let built_in = mesh_plate(None);
+    let narrow = mesh_plate(Some("tests/kb/corners-50-130.pl"));
+    assert_eq!(built_in.quality.corner_window, [45.0, 135.0]);
+    assert_eq!(narrow.quality.corner_window, [50.0, 130.0]);
+    let before = share_within(&built_in.mesh, 50.0, 130.0);
+    let after = share_within(&narrow.mesh, 50.0, 130.0);
+    assert!(
+        after > before,
+        "share of quads in [50, 130]: {after:.1}% with the window narrowed, {before:.1}% built in"
+    );
+    // the summary reports the share for the window in force
+    assert!((narrow.quality.pct_45_135 - after).abs() < 1e-6);
+}
+
+#[test]
+fn a_wider_clearance_in_the_kb_is_the_one_the_validity_check_applies() {
+    let built_in = mesh_plate(None);
+    let wider = mesh_plate(Some("tests/kb/clearance-0.3.pl"));
+    let front_vetoes = |r: &MeshResult| {
+        r.vetoes
+            .iter()
+            .filter(|v| v.reason == "front_crossed_or_too_close")
+            .count()
+    };
+    assert!(
+        front_vetoes(&wider) > front_vetoes(&built_in),
+        "designs refused for clearance: {} with 0.3, {} built in",
+        front_vetoes(&wider),
+        front_vetoes(&built_in)
+    );
+}
