@@ -31,7 +31,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-// Data flows down this list: a module uses only those above it.
+// One module a concept of the paper; the README's "How it works" maps
+// them to the stages in the order data flows through them.
 mod cleanup;
 mod cracks;
 mod element_quality;

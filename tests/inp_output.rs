@@ -240,3 +240,31 @@ fn second_order_decks_have_cps8_and_s9r5_elements_with_middles_in_the_sets() {
     );
     check_deck(&deck, &mesh, "S9R5", 9);
 }
+
+#[test]
+fn a_parted_domain_has_an_element_set_a_region_as_the_json_has_them() {
+    let (inp, json) = (tmp("partition.inp"), tmp("partition.json"));
+    let out = freemesh(&[
+        "mesh",
+        "tests/partitions/partition.json",
+        "-o",
+        inp.to_str().unwrap(),
+        "-o",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let deck = Deck::read(&inp);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let regions: Vec<u64> = v["regions"]
+        .as_array()
+        .expect("two regions in the JSON")
+        .iter()
+        .map(|r| r.as_u64().unwrap())
+        .collect();
+    for r in 1..=2u64 {
+        let want: BTreeSet<usize> = (0..regions.len()).filter(|&q| regions[q] == r).collect();
+        assert!(!want.is_empty());
+        assert_eq!(deck.set(&format!("*ELSET, ELSET=region_{r}")), want);
+    }
+}

@@ -1,5 +1,6 @@
 //! Abaqus input decks (`.inp`), which CalculiX reads too: the nodes, the
-//! elements in one element set `EALL`, and for each boundary group of the
+//! elements in one element set `EALL` (and one set a region, `region_1`,
+//! ..., where lines part the domain), and for each boundary group of the
 //! mesh (`outer`, `hole 1`, `line 1`, a tag...) a node set, an element set
 //! (the elements with a face on it) and an element-face surface, so that
 //! boundary conditions and loads can be put on it.
@@ -124,14 +125,24 @@ pub fn to_inp(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
                 .push((e as u32, k as u8 + 1));
         }
     }
-    let labels = unique_labels(&mesh.groups);
-    for (g, group) in mesh.groups.iter().enumerate() {
-        let edges: Vec<(u32, u32)> = mesh
-            .boundary
-            .iter()
-            .filter(|e| e.group as usize == g)
-            .map(|e| (e.a, e.b))
+    // the regions that lines part the domain into, after the groups
+    let regions = mesh.region_count() as usize;
+    let regions = if regions > 1 { regions } else { 0 };
+    let mut names = mesh.groups.clone();
+    names.extend((1..=regions).map(|r| format!("region {r}")));
+    let labels = unique_labels(&names);
+    for r in 0..regions {
+        let label = &labels[mesh.groups.len() + r];
+        let elements: Vec<u32> = (0..mesh.quads.len() as u32)
+            .filter(|&q| mesh.regions[q as usize] as usize == r)
             .collect();
+        let _ = writeln!(s, "** region {}: element set {label}", r + 1);
+        let _ = writeln!(s, "*ELSET, ELSET={label}");
+        write_ids(&mut s, &elements);
+    }
+    let by_group = mesh.group_edges();
+    for (g, group) in mesh.groups.iter().enumerate() {
+        let edges: Vec<(u32, u32)> = by_group[g].clone();
         if edges.is_empty() {
             continue;
         }
