@@ -29,6 +29,7 @@ pub mod kb;
 pub mod mesh;
 pub mod mesh_reader;
 pub mod mesher;
+mod msh_binary;
 pub mod output;
 pub mod quality;
 pub mod repl;
