@@ -26,7 +26,7 @@ pub enum Command {
     /// no prompts, so a session can be scripted.
     Repl(ReplArgs),
     /// Measure a quad mesh, ours or another program's (.msh, ASCII 4.1 or
-    /// 2.2, or freemesh's .json): angle range, share in [45, 135], scaled
+    /// 2.2 or binary 4.1, or freemesh's .json): angle range, share in [45, 135], scaled
     /// Jacobian, aspect ratio, taper, size jump, and a histogram of angles.
     Quality(QualityArgs),
 }
@@ -79,8 +79,10 @@ pub struct MeshArgs {
     #[arg(required = true)]
     pub domains: Vec<PathBuf>,
     /// Output file; the format follows the extension (.msh, .vtk, .svg,
-    /// .json). Repeat for several. With several domains, write {stem} for
-    /// each domain's file name without extension: -o 'out/{stem}.msh'.
+    /// .json). Repeat for several. {stem} stands for the domain's file name
+    /// without extension (needed with several domains: -o 'out/{stem}.msh').
+    /// Every output is checked before meshing: named once, in a folder
+    /// that exists and can be written.
     #[arg(short = 'o', long = "output", required = true)]
     pub outputs: Vec<PathBuf>,
     /// Worker threads for several domains, each with its own engine
@@ -94,7 +96,8 @@ pub struct MeshArgs {
     /// Target boundary segment length (replaces the domain's size).
     #[arg(long)]
     pub size: Option<f64>,
-    /// Largest interior element edge (replaces the domain's max_size).
+    /// Largest interior element edge (replaces the domain's max_size); not
+    /// below the size.
     #[arg(long)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat

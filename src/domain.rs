@@ -51,6 +51,11 @@ pub enum DomainError {
     /// The geometry is not a valid domain (crossing loops, odd total...).
     #[error("{0}")]
     Geometry(String),
+    /// Keys the format does not know, each with where it is and the key
+    /// probably meant: refused, since a misspelt `holes` would silently
+    /// drop the holes.
+    #[error("unknown {}: {}", if .0.len() == 1 { "key" } else { "keys" }, .0.join(", "))]
+    UnknownKeys(Vec<String>),
 }
 
 fn key_err(key: &str, message: impl Into<String>) -> DomainError {
@@ -234,15 +239,13 @@ pub struct Domain {
     pub holes: Vec<Chain>,
     /// Inner lines (open).
     pub lines: Vec<Chain>,
-    /// Keys the format does not know, each with where it is: ignored, and
-    /// worth a warning (a misspelt `holes` would silently drop the holes).
-    pub unknown_keys: Vec<String>,
 }
 
-/// The keys of each object of the format (domain-format.md).
+/// The keys of each object of the format (domain-format.md, 1.1: `tags`,
+/// a circle's `tag` and a line's `crack` are known keys).
 const TOP_KEYS: &[&str] = &["name", "size", "max_size", "outer", "holes", "lines"];
-const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "circle"];
-const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments"];
+const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "tags", "crack", "circle"];
+const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments", "tag"];
 
 /// Every key of the domain's objects that the format does not know, as
 /// "where: key (did you mean ...?)".
@@ -496,6 +499,12 @@ impl Domain {
         let obj = v
             .as_object()
             .ok_or_else(|| key_err("(top level)", "expected a JSON object"))?;
+        // first: a misspelt key explains the missing one better than
+        // "size: missing key" would
+        let unknown = unknown_keys(v);
+        if !unknown.is_empty() {
+            return Err(DomainError::UnknownKeys(unknown));
+        }
         let name = match obj.get("name") {
             None | Some(Value::Null) => "domain".to_string(),
             Some(Value::String(s)) => s.clone(),
@@ -510,6 +519,12 @@ impl Domain {
             None | Some(Value::Null) => None,
             Some(x) => Some(positive(x, "max_size")?),
         };
+        if let Some(max_size) = max_size.filter(|&m| m < size) {
+            return Err(key_err(
+                "max_size",
+                format!("{max_size} is below size {size}"),
+            ));
+        }
         let outer = chain(
             obj.get("outer")
                 .ok_or_else(|| key_err("outer", "missing key"))?,
@@ -540,7 +555,6 @@ impl Domain {
             outer,
             holes,
             lines,
-            unknown_keys: unknown_keys(v),
         };
         d.check_geometry()?;
         Ok(d)
@@ -577,6 +591,25 @@ impl Domain {
             }
         }
         pts
+    }
+
+    /// The most decimals a coordinate or radius of the domain has, as the
+    /// shortest text that reads back as the same number: a point quoted in
+    /// a message gets no more digits than the input has.
+    fn input_decimals(&self) -> usize {
+        let decimals = |x: f64| {
+            let text = x.to_string();
+            text.split_once('.').map_or(0, |(_, fraction)| fraction.len())
+        };
+        let mut most = 0;
+        for e in self.chains().flat_map(|c| &c.edges) {
+            let numbers = match e.curve {
+                Curve::Line { a, b } | Curve::Arc { a, b, .. } => [a.x, a.y, b.x, b.y],
+                Curve::Circle { center, radius } => [center.x, center.y, radius, 0.0],
+            };
+            most = numbers.into_iter().map(decimals).fold(most, usize::max);
+        }
+        most
     }
 
     fn check_geometry(&self) -> Result<(), DomainError> {
@@ -625,6 +658,7 @@ impl Domain {
                 }
             }
         }
+        let decimals = self.input_decimals();
         let mut seen = std::collections::HashSet::new();
         for cellv in grid.values() {
             for (x, &i) in cellv.iter().enumerate() {
@@ -647,13 +681,16 @@ impl Domain {
                             continue;
                         }
                         return Err(DomainError::Geometry(format!(
-                            "{}: the loop intersects itself near ({:.6}, {:.6})",
-                            polys[ci].0, p1.x, p1.y
+                            "{}: the loop intersects itself {}",
+                            polys[ci].0,
+                            point_text(meeting_point(p1, p2, q1, q2, rel), decimals)
                         )));
                     }
                     return Err(DomainError::Geometry(format!(
-                        "{} and {} cross or touch near ({:.6}, {:.6})",
-                        polys[ci].0, polys[cj].0, p1.x, p1.y
+                        "{} and {} cross or touch {}",
+                        polys[ci].0,
+                        polys[cj].0,
+                        point_text(meeting_point(p1, p2, q1, q2, rel), decimals)
                     )));
                 }
             }
@@ -686,4 +723,44 @@ impl Domain {
         }
         Ok(())
     }
+}
+
+/// Where two segments that are not disjoint meet: the point where they
+/// cross, or for a touch or an overlap an end of one that lies on the other.
+fn meeting_point(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2, rel: SegmentRelation) -> DVec2 {
+    let (dp, dq) = (p2 - p1, q2 - q1);
+    let denominator = dp.perp_dot(dq);
+    if rel == SegmentRelation::Cross && denominator != 0.0 {
+        return p1 + dp * ((q1 - p1).perp_dot(dq) / denominator);
+    }
+    let on = |a: DVec2, b: DVec2, p: DVec2| {
+        crate::geometry::orient2d(a, b, p) == 0.0
+            && p.x >= a.x.min(b.x)
+            && p.x <= a.x.max(b.x)
+            && p.y >= a.y.min(b.y)
+            && p.y <= a.y.max(b.y)
+    };
+    [(q1, p1, p2), (q2, p1, p2), (p1, q1, q2), (p2, q1, q2)]
+        .into_iter()
+        .find(|&(p, a, b)| on(a, b, p))
+        .map_or(p1, |(p, _, _)| p)
+}
+
+/// `at (x, y)` with `decimals` decimals, or `near (x, y)` where that
+/// rounds the point.
+fn point_text(p: DVec2, decimals: usize) -> String {
+    let number = |v: f64| {
+        let text = format!("{v:.decimals$}");
+        // -0 reads as a typo
+        let text = if text.trim_start_matches(['-', '0', '.']).is_empty() {
+            text.trim_start_matches('-').to_string()
+        } else {
+            text
+        };
+        let exact = text.parse::<f64>() == Ok(v);
+        (text, exact)
+    };
+    let ((x, x_exact), (y, y_exact)) = (number(p.x), number(p.y));
+    let word = if x_exact && y_exact { "at" } else { "near" };
+    format!("{word} ({x}, {y})")
 }

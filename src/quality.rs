@@ -20,6 +20,8 @@ pub struct Quality {
     pub max_angle: f64,
     /// Share of quads with every angle in [45, 135], in percent.
     pub pct_45_135: f64,
+    /// Number of quads with a corner outside [45, 135].
+    pub outside_45_135: usize,
     /// Smallest scaled Jacobian.
     pub min_scaled_jacobian: f64,
     /// Largest aspect ratio.
@@ -65,6 +67,7 @@ pub fn measure(mesh: &Mesh) -> Quality {
         min_angle: 180.0,
         max_angle: 0.0,
         pct_45_135: 0.0,
+        outside_45_135: 0,
         min_scaled_jacobian: 1.0,
         max_aspect: 1.0,
         max_taper: 1.0,
@@ -92,6 +95,7 @@ pub fn measure(mesh: &Mesh) -> Quality {
     if !mesh.quads.is_empty() {
         q.pct_45_135 = 100.0 * good as f64 / mesh.quads.len() as f64;
     }
+    q.outside_45_135 = mesh.quads.len() - good;
     let mut owner: FxHashMap<(u32, u32), u32> =
         FxHashMap::with_capacity_and_hasher(2 * mesh.quads.len(), Default::default());
     for (qi, quad) in mesh.quads.iter().enumerate() {
