@@ -123,7 +123,7 @@ fn readme_row_if_stale(
 #[test]
 fn the_blade_examples_figures_are_measured_again() {
     let domain = Domain::from_file("examples/kb/blade.json").unwrap();
-    let mut run = |kb_file: Option<&str>| {
+    let run = |kb_file: Option<&str>| {
         let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
         if let Some(f) = kb_file {
             kb.consult_file(f).unwrap();
