@@ -30,7 +30,7 @@ pub enum Command {
     /// no prompts, so a session can be scripted.
     Repl(ReplArgs),
     /// Measure a quad mesh, ours or another program's (.msh, ASCII 4.1 or
-    /// 2.2, or freemesh's .json): angle range, share in [45, 135], scaled
+    /// 2.2 or binary 4.1, or freemesh's .json): angle range, share in [45, 135], scaled
     /// Jacobian, aspect ratio, taper, size jump, and a histogram of angles.
     Quality(QualityArgs),
 }
@@ -100,9 +100,11 @@ pub struct MeshArgs {
     #[arg(required = true)]
     pub domains: Vec<PathBuf>,
     /// Output file; the format follows the extension (.msh, .vtk, .svg,
-    /// .json, .inp for Abaqus and CalculiX). Repeat for several. With
-    /// several domains, write {stem} for each domain's file name without
-    /// extension: -o 'out/{stem}.msh'.
+    /// .json, .inp for Abaqus and CalculiX). Repeat for several. {stem}
+    /// stands for the domain's file name without extension (needed with
+    /// several domains: -o 'out/{stem}.msh'). Every output is checked
+    /// before meshing: named once, in a folder that exists and can be
+    /// written.
     #[arg(short = 'o', long = "output", required = true)]
     pub outputs: Vec<PathBuf>,
     /// Worker threads for several domains, each with its own engine
@@ -125,8 +127,9 @@ pub struct MeshArgs {
     /// 9-node quads with a centre node (false).
     #[arg(long, action = clap::ArgAction::Set)]
     pub serendipity: Option<bool>,
-    /// Largest interior element edge (replaces the domain's max_size);
-    /// checked, not used yet: every element is made at the size.
+    /// Largest interior element edge (replaces the domain's max_size); not
+    /// below the size; checked, not used yet: every element is made at
+    /// the size.
     #[arg(long)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat

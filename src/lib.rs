@@ -77,7 +77,9 @@ pub use second_order::{ElementKind, SecondOrder};
 pub use io::dxf::{read_dxf, DomainFile, Outline};
 pub use features::{EdgeFeature, FrontFeatures, NodeFeature};
 pub use io::mesh_reader::{read_mesh, ReadError, ReadMesh};
-pub use io::output::{render, write_all, Format, OutputError};
+pub use io::output::{
+    check_writable, interrupt as interrupt_writes, render, write_all, Format, OutputError,
+};
 pub use pipeline::{discretise_for_run, domain_features, mesh_boundary, RunBoundary};
 pub use repl::{Flow, Repl};
 pub use report::quality::{angle_bins, angle_histogram, measure as measure_quality};

@@ -2,6 +2,7 @@
 
 mod cli;
 mod prompt;
+mod run_outputs;
 
 use anyhow::{Context, Result};
 use clap::Parser;
@@ -10,7 +11,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use freemesh::{
-    mesh_domain, render, write_all, Domain, ElementKind, Format, KnowledgeBase, Options, SecondOrder,
+    mesh_domain, render, write_all, Domain, ElementKind, KnowledgeBase, Options, SecondOrder,
 };
 
 // The engine and the mesher make many small, short-lived allocations;
@@ -121,17 +122,6 @@ fn convert(args: cli::ConvertArgs) -> Result<()> {
     Ok(())
 }
 
-/// One warning line for the keys of a domain file the format does not know.
-fn warn_unknown_keys(domain: &Domain, path: &std::path::Path) {
-    if !domain.unknown_keys().is_empty() {
-        eprintln!(
-            "warning: {}: unknown keys ignored: {}",
-            path.display(),
-            domain.unknown_keys().join(", ")
-        );
-    }
-}
-
 /// A library error in the command line's words: an option names its flag.
 fn in_cli_words(e: freemesh::Error) -> anyhow::Error {
     use freemesh::{Error, OptionError, RunOption};
@@ -208,8 +198,12 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
     )?;
     writeln!(
         out,
-        "angles {:.1}..{:.1} deg, {:.1}% of quads in [{}, {}]",
-        q.min_angle, q.max_angle, q.pct_45_135, q.corner_window[0], q.corner_window[1]
+        "angles {} deg, {} of quads in [{}, {}]{}",
+        angle_range_text(&q),
+        share_text(&q),
+        q.corner_window[0],
+        q.corner_window[1],
+        outside_text(&q)
     )?;
     writeln!(
         out,
@@ -229,7 +223,6 @@ fn quality(args: cli::QualityArgs) -> Result<()> {
 fn features(args: cli::FeaturesArgs) -> Result<()> {
     use std::io::Write;
     let domain = read_domain(&args.domain, args.size)?;
-    warn_unknown_keys(&domain, &args.domain);
     let mut kb = load_kb(&args.kb)?;
     let f = freemesh::domain_features(&domain, &mut kb, args.size).map_err(in_cli_words)?;
     let mut out = std::io::stdout().lock();
@@ -268,14 +261,15 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     if args.order == 1 && args.serendipity.is_some() {
         anyhow::bail!("--serendipity is for second-order elements: give --order 2 with it");
     }
-    let formats: Vec<Format> = args
-        .outputs
-        .iter()
-        .map(|p| Ok(Format::from_path(p)?))
-        .collect::<Result<_>>()?;
+    if let (Some(size), Some(max_size)) = (args.size, args.max_size) {
+        if max_size < size {
+            anyhow::bail!("--max-size {max_size} is below --size {size}");
+        }
+    }
     let domains = expand_globs(&args.domains)?;
+    let planned = run_outputs::plan(&domains, &args.outputs, args.trace.as_deref())?;
+    run_outputs::remove_temporaries_on_interrupt()?;
     if domains.len() == 1 {
-        let outputs: Vec<(PathBuf, Format)> = args.outputs.iter().cloned().zip(formats).collect();
         // the domain is read and its boundary made ready while the engine
         // loads (the engine cannot move between threads; these can)
         let (kb, early) = std::thread::scope(|scope| {
@@ -286,35 +280,17 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
                 .unwrap_or_else(|e| std::panic::resume_unwind(e));
             (kb, early)
         });
-        let mut kb = kb?;
         let early = early?;
+        let mut kb = kb?;
         // one domain: a core to spare answers part of the KB's questions
         if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
             kb.start_second_engine();
         }
-        let done = mesh_one(
-            &domains[0],
-            Some(early),
-            &outputs,
-            args.trace.as_deref(),
-            &mut kb,
-            &args,
-            true,
-        );
+        let done = mesh_one(&domains[0], Some(early), &planned[0], &mut kb, &args, true);
         // The engine's heap is large after a big run and the process ends
         // here: tearing it down piece by piece would only cost time.
         std::mem::forget(kb);
         return done;
-    }
-    // Several domains: every output must be told apart by {stem}.
-    for p in args.outputs.iter().chain(args.trace.iter()) {
-        if !p.to_string_lossy().contains("{stem}") {
-            anyhow::bail!(
-                "{} domains and one output name {}: write {{stem}} where each domain's name goes (-o 'out/{{stem}}.msh')",
-                domains.len(),
-                p.display()
-            );
-        }
     }
     let jobs = args
         .jobs
@@ -338,24 +314,8 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
                 loop {
                     let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
                     let Some(d) = domains.get(i) else { break };
-                    let stem = d
-                        .file_stem()
-                        .map_or_else(|| format!("{i}"), |s| s.to_string_lossy().into_owned());
-                    let fill =
-                        |p: &PathBuf| PathBuf::from(p.to_string_lossy().replace("{stem}", &stem));
-                    let outputs: Vec<(PathBuf, Format)> = args
-                        .outputs
-                        .iter()
-                        .map(fill)
-                        .zip(formats.iter().copied())
-                        .collect();
-                    let trace = args.trace.as_ref().map(fill);
-                    if let Err(e) =
-                        mesh_one(d, None, &outputs, trace.as_deref(), &mut kb, &args, false)
-                    {
-                        bar.suspend(|| {
-                            eprintln!("error: {}: {}", d.display(), one_line(&format!("{e:#}")))
-                        });
+                    if let Err(e) = mesh_one(d, None, &planned[i], &mut kb, &args, false) {
+                        bar.suspend(|| eprintln!("error: {}", naming_the_file(d, &e)));
                         failed.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
                     }
                     bar.inc(1);
@@ -369,6 +329,18 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         anyhow::bail!("{failed} of {} domains failed", domains.len());
     }
     Ok(())
+}
+
+/// A domain's error on one line, with the file's name once: many errors
+/// name it already (`d.json: not valid JSON`), the others get it first.
+fn naming_the_file(path: &std::path::Path, e: &anyhow::Error) -> String {
+    let message = one_line(&format!("{e:#}"));
+    let name = path.display().to_string();
+    if message.contains(&name) {
+        message
+    } else {
+        format!("{name}: {message}")
+    }
 }
 
 /// The domain arguments with quoted globs expanded, in order.
@@ -409,6 +381,32 @@ fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
     bar
 }
 
+/// The share of quads in [45, 135] to a tenth of a percent, rounded
+/// down: three quads outside in 8000 read 99.9%, never 100.0%.
+fn share_text(q: &freemesh::Quality) -> String {
+    let inside = q.quads - q.outside_45_135;
+    let tenths = (inside * 1000).checked_div(q.quads).unwrap_or(0);
+    format!("{}.{}%", tenths / 10, tenths % 10)
+}
+
+/// ` (N outside)` after the share, when a quad is outside [45, 135].
+fn outside_text(q: &freemesh::Quality) -> String {
+    match q.outside_45_135 {
+        0 => String::new(),
+        n => format!(" ({n} outside)"),
+    }
+}
+
+/// The smallest and largest corner angle to a tenth of a degree, rounded
+/// outward: a corner of 44.96 degrees reads 44.9, not 45.0 (a millionth
+/// of a tenth spared, so that a right angle computed as 89.99999999
+/// still reads 90.0).
+fn angle_range_text(q: &freemesh::Quality) -> String {
+    let down = (q.min_angle * 10.0 + 1e-6).floor() / 10.0;
+    let up = (q.max_angle * 10.0 - 1e-6).ceil() / 10.0;
+    format!("{down:.1}..{up:.1}")
+}
+
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
@@ -419,8 +417,34 @@ fn read_and_discretise(
     args: &cli::MeshArgs,
 ) -> Result<(Domain, freemesh::RunBoundary)> {
     let domain = read_domain(path, args.size)?;
+    check_sizes(&domain, args)?;
     let boundary = freemesh::discretise_for_run(&domain, args.size).map_err(in_cli_words)?;
     Ok((domain, boundary))
+}
+
+/// The run's largest interior size is not below its boundary size (the
+/// domain's or the one given: an error, not a bound silently ignored).
+fn check_sizes(domain: &Domain, args: &cli::MeshArgs) -> Result<()> {
+    let size = args.size.unwrap_or(domain.size());
+    let Some(max_size) = args.max_size.or(domain.max_size()) else {
+        return Ok(());
+    };
+    // a size that is no positive number is the library's to refuse
+    if !(size > 0.0 && max_size > 0.0) {
+        return Ok(());
+    }
+    if max_size < size {
+        let name = |flag: Option<f64>, key: &str| match flag {
+            Some(_) => format!("--{}", key.replace('_', "-")),
+            None => format!("the domain's {key}"),
+        };
+        anyhow::bail!(
+            "{} {max_size} is below {} {size}",
+            name(args.max_size, "max_size"),
+            name(args.size, "size")
+        );
+    }
+    Ok(())
 }
 
 /// Meshes one domain into its outputs, with a summary line on stderr;
@@ -428,8 +452,7 @@ fn read_and_discretise(
 fn mesh_one(
     path: &std::path::Path,
     early: Option<(Domain, freemesh::RunBoundary)>,
-    outputs: &[(PathBuf, Format)],
-    trace_path: Option<&std::path::Path>,
+    outputs: &run_outputs::DomainOutputs,
     kb: &mut KnowledgeBase,
     args: &cli::MeshArgs,
     show_progress: bool,
@@ -437,9 +460,13 @@ fn mesh_one(
     let t0 = Instant::now();
     let (domain, early_boundary) = match early {
         Some((d, b)) => (d, Some(b)),
-        None => (read_domain(path, args.size)?, None),
+        None => {
+            let domain = read_domain(path, args.size)?;
+            check_sizes(&domain, args)?;
+            (domain, None)
+        }
     };
-    warn_unknown_keys(&domain, path);
+    let trace_path = outputs.trace.as_deref();
     let opts = debug_options(
         Options::default()
             .with_size(args.size)
@@ -478,6 +505,7 @@ fn mesh_one(
     let second =
         (kind != ElementKind::Quad4).then(|| SecondOrder::build(&result.mesh, &domain, kind));
     let mut files: Vec<(PathBuf, String)> = outputs
+        .meshes
         .iter()
         .map(|(p, f)| {
             (
@@ -494,15 +522,15 @@ fn mesh_one(
     let q = &result.quality;
     let elapsed = t0.elapsed().as_secs_f64();
     eprintln!(
-        "{}: {} nodes, {} quads, angles {:.1}..{:.1} deg, {:.1}% in [{}, {}], {} fallback splits{}, {:.3} s; made {}",
+        "{}: {} nodes, {} quads, angles {} deg, {} in [{}, {}]{}, {} fallback splits{}, {:.3} s; made {}",
         domain.name(),
         result.mesh.nodes.len(),
         q.quads,
-        q.min_angle,
-        q.max_angle,
-        q.pct_45_135,
+        angle_range_text(q),
+        share_text(q),
         q.corner_window[0],
         q.corner_window[1],
+        outside_text(q),
         result.stats.fallback_splits,
         if result.stats.triangle_fallbacks > 0 {
             " (the rules stopped: meshed whole by the triangle fallback)"
@@ -557,4 +585,43 @@ fn mesh_one(
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quality(quads: usize, outside: usize, min_angle: f64, max_angle: f64) -> freemesh::Quality {
+        freemesh::Quality {
+            quads,
+            min_angle,
+            max_angle,
+            pct_45_135: 100.0 * (quads - outside) as f64 / quads as f64,
+            outside_45_135: outside,
+            min_scaled_jacobian: 0.7,
+            max_aspect: 1.0,
+            max_taper: 1.0,
+            max_size_jump: 1.0,
+            corner_window: [45.0, 135.0],
+        }
+    }
+
+    #[test]
+    fn a_share_just_below_all_is_rounded_down_with_the_count_outside() {
+        let q = quality(8000, 3, 44.0, 130.0);
+        assert_eq!((share_text(&q), outside_text(&q).as_str()), ("99.9%".into(), " (3 outside)"));
+        let q = quality(8000, 0, 45.0, 130.0);
+        assert_eq!((share_text(&q), outside_text(&q).as_str()), ("100.0%".into(), ""));
+        assert_eq!(share_text(&quality(3, 1, 44.0, 130.0)), "66.6%");
+    }
+
+    #[test]
+    fn the_angle_range_is_rounded_outward() {
+        assert_eq!(angle_range_text(&quality(1, 1, 44.96, 135.04)), "44.9..135.1");
+        assert_eq!(angle_range_text(&quality(1, 0, 45.0, 135.0)), "45.0..135.0");
+        assert_eq!(
+            angle_range_text(&quality(1, 0, 89.999_999_99, 90.000_000_01)),
+            "90.0..90.0"
+        );
+    }
 }

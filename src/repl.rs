@@ -164,19 +164,12 @@ impl<'k> Repl<'k> {
         self.finished = None;
         self.name = domain.name.clone();
         published?;
-        let mut msg = format!(
+        Ok(format!(
             "% loaded {}: {} front segments in {} loop(s)",
             domain.name,
             loops.iter().map(Vec::len).sum::<usize>(),
             loops.len()
-        );
-        if !domain.unknown_keys.is_empty() {
-            msg.push_str(&format!(
-                "\n% warning: unknown keys ignored: {}",
-                domain.unknown_keys.join(", ")
-            ));
-        }
-        Ok(msg)
+        ))
     }
 
     /// Handles one line of input: a command or a query. `more` is asked

@@ -382,7 +382,6 @@ mod tests {
                 b: DVec2::Y,
             })],
             tags: vec![],
-            unknown_keys: vec![],
         };
         let mut mesh = Mesh::default();
         for p in [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]] {

@@ -458,6 +458,11 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]], \"segments\": [-1, 2, 2, 2]}}", "outer.segments[0]: expected a whole number >= 0"),
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]], \"bulges\": [0, 0]}}", "outer.bulges: expected 4 entries"),
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]], \"bulges\": [0, 1e9, 0, 0]}}", "bulges[1]"),
+        ("{\"size\": 1, \"max_size\": 0.5, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}}", "max_size: 0.5 is below size 1"),
+        // a bowtie: the crossing point, as the input writes numbers
+        ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[0,10],[10,10]]}}", "outer: the loop intersects itself at (5, 5)"),
+        ("{\"size\": 0.1, \"outer\": {\"points\": [[0,0],[1.5,0],[0,1.5],[1.5,1.5]]}}", "outer: the loop intersects itself near (0.8, 0.8)"),
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"holes\": [{\"points\": [[1,1],[4,1],[4,4],[1,4]]}], \"lines\": [{\"points\": [[0.5,2.5],[2.5,2.5]]}]}", "holes[0] and lines[0] cross or touch at (1.0, 2.5)"),
     ];
     for (i, (text, expect)) in cases.iter().enumerate() {
         let dom = tmp(&format!("bad{i}.json"));
@@ -472,21 +477,28 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
 }
 
 #[test]
-fn an_unknown_key_is_named_in_a_warning_with_the_key_meant() {
+fn an_unknown_key_is_refused_with_the_key_meant() {
     let dom = tmp("typo.json");
     std::fs::write(
         &dom,
-        "{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}, \"hole\": []}",
+        "{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}, \"hole\": [{\"circle\": {\"center\": [2,2], \"radius\": 1}}]}",
     )
     .unwrap();
     let out = tmp("typo.json.msh");
-    let o = freemesh(&["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("warning: ") && stderr(&o).contains("hole (did you mean holes?)"),
-        "{}",
-        stderr(&o)
+    assert_refused(
+        &["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        &out,
+        "unknown key: hole (did you mean holes?)",
     );
+    // the keys of format 1.1 are known
+    let tagged = tmp("tagged.json");
+    std::fs::write(
+        &tagged,
+        "{\"size\": 1, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]], \"tags\": [\"bottom\", \"\", \"\", \"\"]}, \"holes\": [{\"circle\": {\"center\": [2,2], \"radius\": 1, \"tag\": \"bore\"}}]}",
+    )
+    .unwrap();
+    let o = freemesh(&["features", tagged.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]
@@ -669,6 +681,45 @@ fn an_option_out_of_range_names_its_flag() {
     }
 }
 
+/// The files in a folder whose names hold `.tmp-`: temporaries left.
+fn temporaries_in(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".tmp-"))
+        .collect()
+}
+
+/// A fresh empty folder for one test.
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = tmp(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn the_same_output_named_twice_is_refused_before_meshing() {
+    let dir = tmp_dir("twice");
+    let same = dir.join("same.msh");
+    let same = same.to_str().unwrap();
+    // a rule that throws while meshing: refused before it is asked
+    let kb = ["--kb", "tests/kb/throws-on-a-reflex-corner.pl"];
+    let dotted = format!("{}/./same.msh", dir.display());
+    let trace = dir.join("same.msh");
+    for args in [
+        vec!["-o", same, "-o", same],
+        vec!["-o", same, "-o", &dotted],
+        vec!["-o", same, "--trace", trace.to_str().unwrap()],
+    ] {
+        let mut all = vec!["mesh", "tests/inputs/l-shape.json"];
+        all.extend(&args);
+        all.extend(kb);
+        assert_refused(&all, Path::new(same), "same.msh is given twice as an output");
+        assert!(temporaries_in(&dir).is_empty());
+    }
+}
+
 #[test]
 fn the_binary_draws_where_the_rules_stopped_when_a_developer_asks() {
     let out = tmp("slot.msh");
@@ -690,4 +741,337 @@ fn the_binary_draws_where_the_rules_stopped_when_a_developer_asks() {
     assert!(steps.lines().all(|l| l.starts_with('{')), "{steps}");
     let run = std::fs::read_to_string(&trace).unwrap();
     assert_eq!(run.lines().count(), 1, "{run}");
+}
+
+#[test]
+fn two_domains_that_would_write_one_file_are_refused() {
+    let dir = tmp_dir("stems");
+    let a = dir.join("a");
+    let b = dir.join("b");
+    for d in [&a, &b] {
+        std::fs::create_dir_all(d).unwrap();
+        std::fs::copy("tests/inputs/square.json", d.join("square.json")).unwrap();
+    }
+    let out = dir.join("{stem}.msh");
+    assert_refused(
+        &[
+            "mesh",
+            a.join("square.json").to_str().unwrap(),
+            b.join("square.json").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &dir.join("square.msh"),
+        "would both write",
+    );
+}
+
+#[test]
+fn an_output_folder_that_is_missing_or_cannot_be_written_is_refused_before_meshing() {
+    let missing = tmp("no-such-folder/out.msh");
+    // with a rule that throws while meshing: the folder is named, not the rule
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/l-shape.json",
+            "-o",
+            missing.to_str().unwrap(),
+            "--kb",
+            "tests/kb/throws-on-a-reflex-corner.pl",
+        ],
+        &missing,
+        "no-such-folder does not exist",
+    );
+    let file = tmp("a-file");
+    std::fs::write(&file, "").unwrap();
+    let under_a_file = file.join("out.msh");
+    assert_refused(
+        &["mesh", "tests/inputs/square.json", "-o", under_a_file.to_str().unwrap()],
+        &under_a_file,
+        "a-file is not a folder",
+    );
+    // a folder even root cannot write in (chmod would not stop root)
+    if cfg!(target_os = "linux") {
+        let sys = Path::new("/sys/freemesh-test.msh");
+        assert_refused(
+            &["mesh", "tests/inputs/l-shape.json", "-o", sys.to_str().unwrap(), "--kb", "tests/kb/throws-on-a-reflex-corner.pl"],
+            sys,
+            "/sys/freemesh-test.msh: cannot write: ",
+        );
+        // the system's reason once, not repeated by an error chain
+        let err = stderr(&freemesh(&["mesh", "tests/inputs/square.json", "-o", sys.to_str().unwrap()]));
+        assert_eq!(err.matches("os error").count(), 1, "{err}");
+    }
+}
+
+#[test]
+fn max_size_below_size_is_refused() {
+    let out = tmp("max-below.msh");
+    assert_refused(
+        &["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap(), "--size", "0.5", "--max-size", "0.25"],
+        &out,
+        "--max-size 0.25 is below --size 0.5",
+    );
+    let dom = tmp("with-max.json");
+    std::fs::write(
+        &dom,
+        "{\"size\": 1, \"max_size\": 2, \"outer\": {\"points\": [[0,0],[4,0],[4,4],[0,4]]}}",
+    )
+    .unwrap();
+    assert_refused(
+        &["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap(), "--size", "3"],
+        &out,
+        "the domain's max_size 2 is below --size 3",
+    );
+}
+
+#[test]
+fn stem_is_replaced_with_one_input_too() {
+    let dir = tmp_dir("one-stem");
+    let pattern = dir.join("{stem}-x.json");
+    let o = freemesh(&["mesh", "tests/inputs/square.json", "-o", pattern.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("square-x.json").exists());
+    assert!(!pattern.exists(), "no file named {{stem}}-x.json");
+}
+
+#[test]
+fn a_failing_domain_of_several_names_its_file_once() {
+    let dir = tmp_dir("batch");
+    std::fs::copy("tests/inputs/square.json", dir.join("good.json")).unwrap();
+    std::fs::write(dir.join("trunc.json"), "{\"size\": 1, \"outer\": {\"po").unwrap();
+    let o = freemesh(&[
+        "mesh",
+        dir.join("good.json").to_str().unwrap(),
+        dir.join("trunc.json").to_str().unwrap(),
+        "-o",
+        dir.join("{stem}.msh").to_str().unwrap(),
+        "--jobs",
+        "1",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    let line = err.lines().find(|l| l.contains("not valid JSON")).expect(&err);
+    assert_eq!(line.matches("trunc.json").count(), 1, "{line}");
+    // a fault that does not name the file gets its name first
+    std::fs::write(dir.join("trunc.json"), "{\"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}").unwrap();
+    let o = freemesh(&[
+        "mesh",
+        dir.join("good.json").to_str().unwrap(),
+        dir.join("trunc.json").to_str().unwrap(),
+        "-o",
+        dir.join("{stem}.msh").to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert!(err.contains("trunc.json: size: missing key"), "{err}");
+    assert!(dir.join("good.msh").exists());
+}
+
+#[test]
+fn the_summary_never_rounds_a_share_up_to_all() {
+    // dam has a sharp input corner: an element or two stay outside [45, 135]
+    let out = tmp("dam.json");
+    let o = freemesh(&["mesh", "../shared/bench/domains/dam.json", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = stderr(&o);
+    let q = freemesh(&["quality", out.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&q.stdout).unwrap();
+    let outside = v["quality"]["outside_45_135"].as_u64().unwrap();
+    assert!(outside > 0, "dam keeps a corner outside: {summary}");
+    assert!(!summary.contains("100.0%"), "{summary}");
+    assert!(summary.contains(&format!("({outside} outside)")), "{summary}");
+    let text = String::from_utf8_lossy(&freemesh(&["quality", out.to_str().unwrap()]).stdout).into_owned();
+    assert!(text.contains(&format!("({outside} outside)")), "{text}");
+}
+
+#[test]
+fn quality_reads_binary_msh_as_gmsh_writes_it() {
+    // one mesh written by Gmsh 4.15 twice: binary and ASCII MSH 4.1
+    // (ASCII rounds the coordinates to 16 digits: the measures agree to
+    // far below their printed digits, not bit for bit)
+    let read = |f: &str| {
+        let q = freemesh(&["quality", f, "--json"]);
+        assert!(q.status.success(), "{f}: {}", stderr(&q));
+        let v: serde_json::Value = serde_json::from_slice(&q.stdout).unwrap();
+        v
+    };
+    let (binary, ascii) = (
+        read("tests/inputs/gmsh-plate-binary.msh"),
+        read("tests/inputs/gmsh-plate-ascii.msh"),
+    );
+    assert_eq!(binary["quality"]["quads"], 49);
+    assert_eq!(binary["other_faces"], 6, "Gmsh left six triangles");
+    for (k, v) in binary["quality"].as_object().unwrap() {
+        match (v.as_f64(), ascii["quality"][k].as_f64()) {
+            (Some(b), Some(a)) => assert!((b - a).abs() < 1e-9, "{k}: binary {b}, ASCII {a}"),
+            _ => assert_eq!(v, &ascii["quality"][k], "{k}"),
+        }
+    }
+}
+
+#[test]
+fn a_binary_file_that_is_no_mesh_is_named_as_such() {
+    let bad = tmp("binary.msh");
+    std::fs::write(&bad, [0u8, 159, 146, 150, 0, 1]).unwrap();
+    let q = freemesh(&["quality", bad.to_str().unwrap()]);
+    assert_eq!(q.status.code(), Some(1));
+    let err = stderr(&q);
+    assert!(err.contains("binary.msh: not a text file, nor a binary MSH 4.1 file"), "{err}");
+    assert!(!err.contains("UTF-8"), "{err}");
+}
+
+/// Sends a signal to a process by its id.
+fn signal(pid: u32, name: &str) {
+    let s = Command::new("kill")
+        .args([&format!("-{name}"), &pid.to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(s.success());
+}
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_while_writing_removes_the_temporaries() {
+    // A large mesh into five outputs: the child is stopped the moment a
+    // temporary shows up, and interrupted while one is there for sure.
+    let dir = tmp_dir("interrupted");
+    let outs: Vec<PathBuf> = ["m.msh", "m.vtk", "m.json", "m.svg"]
+        .iter()
+        .map(|n| dir.join(n))
+        .collect();
+    let mut caught = false;
+    for attempt in 0..5 {
+        let mut args = vec![
+            "mesh".to_string(),
+            "../shared/bench/domains/plate-holes.json".into(),
+            "--size".into(),
+            "0.04".into(),
+            "--max-size".into(),
+            "0.04".into(),
+            "--trace".into(),
+            dir.join("m.jsonl").to_string_lossy().into_owned(),
+        ];
+        for o in &outs {
+            args.push("-o".into());
+            args.push(o.to_string_lossy().into_owned());
+        }
+        let mut child = Command::new(env!("CARGO_BIN_EXE_freemesh"))
+            .args(&args)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let pid = child.id();
+        loop {
+            if !temporaries_in(&dir).is_empty() {
+                signal(pid, "STOP");
+                if !temporaries_in(&dir).is_empty() {
+                    caught = true;
+                    signal(pid, "INT");
+                }
+                signal(pid, "CONT");
+                break;
+            }
+            if child.try_wait().unwrap().is_some() {
+                break;
+            }
+        }
+        let status = child.wait().unwrap();
+        assert!(temporaries_in(&dir).is_empty(), "left: {:?}", temporaries_in(&dir));
+        if caught {
+            assert_eq!(status.code(), Some(130), "attempt {attempt}");
+            break;
+        }
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            std::fs::remove_file(entry.unwrap().path()).unwrap();
+        }
+    }
+    assert!(caught, "no run was caught writing in five attempts");
+}
+
+/// The README's text.
+fn readme() -> String {
+    std::fs::read_to_string("README.md").unwrap()
+}
+
+/// The README's section from a heading to the next heading of its level
+/// or above.
+fn readme_section(heading: &str) -> String {
+    let text = readme();
+    let start = text.find(heading).unwrap_or_else(|| panic!("README has no {heading}"));
+    let level = heading.chars().take_while(|&c| c == '#').count();
+    let rest = &text[start + heading.len()..];
+    let end = rest
+        .lines()
+        .scan(0, |at, l| {
+            let here = *at;
+            *at += l.len() + 1;
+            Some((here, l))
+        })
+        .find(|(_, l)| {
+            let hashes = l.chars().take_while(|&c| c == '#').count();
+            hashes > 0 && hashes <= level && l[hashes..].starts_with(' ')
+        })
+        .map_or(rest.len(), |(at, _)| at);
+    rest[..end].to_string()
+}
+
+#[test]
+fn the_readmes_first_command_leaves_no_untracked_file() {
+    let section = readme_section("## Two commands");
+    let command = section
+        .lines()
+        .map(str::trim)
+        .find(|l| l.starts_with("cargo run") && l.contains(" -- mesh "))
+        .expect("a cargo run -- mesh command in the README");
+    let args: Vec<&str> = command.split(" -- ").nth(1).unwrap().split_whitespace().collect();
+    let o = freemesh(&args);
+    assert!(o.status.success(), "{command}: {}", stderr(&o));
+    let outputs: Vec<&str> = args
+        .windows(2)
+        .filter(|w| w[0] == "-o")
+        .map(|w| w[1])
+        .collect();
+    assert!(!outputs.is_empty());
+    for out in outputs {
+        assert!(Path::new(out).exists(), "{out} written");
+        let ignored = Command::new("git")
+            .args(["check-ignore", "-q", out])
+            .status()
+            .expect("git runs in the clone");
+        assert!(ignored.success(), "{out} is left untracked by git");
+    }
+}
+
+#[test]
+fn every_field_of_the_trace_is_documented_in_the_readme() {
+    let trace = tmp("documented.jsonl");
+    let out = tmp("documented.json");
+    let o = freemesh(&[
+        "mesh",
+        "tests/inputs/plate-hole.json",
+        "-o",
+        out.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let docs = readme_section("### The trace");
+    let mut fields = std::collections::BTreeSet::new();
+    for line in std::fs::read_to_string(&trace).unwrap().lines() {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        for (k, value) in v.as_object().unwrap() {
+            fields.insert(k.clone());
+            if k == "angles" {
+                for name in value.as_object().unwrap().keys() {
+                    fields.insert(name.clone());
+                }
+            }
+        }
+    }
+    let missing: Vec<&String> = fields
+        .iter()
+        .filter(|f| !docs.contains(&format!("`{f}`")))
+        .collect();
+    assert!(missing.is_empty(), "trace fields not in the README: {missing:?}");
+    assert!(docs.contains("`-1`"), "the -1 node id is explained");
 }

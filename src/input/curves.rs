@@ -2,6 +2,8 @@
 //! a circular arc (`Curve`); edges make loops and lines (`Chain`).
 
 use glam::DVec2;
+
+use crate::geometry::SegmentRelation;
 use std::f64::consts::PI;
 
 /// One edge of a loop or line: a straight segment or a circular arc.
@@ -267,4 +269,63 @@ pub(crate) fn split_curve(c: Curve, p: DVec2) -> (Curve, Curve) {
             )
         }
     }
+}
+
+/// The most decimals a coordinate or radius of the chains has, as the
+/// shortest text that reads back as the same number: a point quoted in a
+/// message gets no more digits than the input has.
+pub(crate) fn input_decimals<'a>(chains: impl Iterator<Item = &'a Chain>) -> usize {
+    let decimals = |x: f64| {
+        let text = x.to_string();
+        text.split_once('.').map_or(0, |(_, fraction)| fraction.len())
+    };
+    let mut most = 0;
+    for e in chains.flat_map(|c| &c.edges) {
+        let numbers = match e.curve {
+            Curve::Line { a, b } | Curve::Arc { a, b, .. } => [a.x, a.y, b.x, b.y],
+            Curve::Circle { center, radius } => [center.x, center.y, radius, 0.0],
+        };
+        most = numbers.into_iter().map(decimals).fold(most, usize::max);
+    }
+    most
+}
+
+/// Where two segments that are not disjoint meet: the point where they
+/// cross, or for a touch or an overlap an end of one that lies on the other.
+pub(crate) fn meeting_point(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2, rel: SegmentRelation) -> DVec2 {
+    let (dp, dq) = (p2 - p1, q2 - q1);
+    let denominator = dp.perp_dot(dq);
+    if rel == SegmentRelation::Cross && denominator != 0.0 {
+        return p1 + dp * ((q1 - p1).perp_dot(dq) / denominator);
+    }
+    let on = |a: DVec2, b: DVec2, p: DVec2| {
+        crate::geometry::orient2d(a, b, p) == 0.0
+            && p.x >= a.x.min(b.x)
+            && p.x <= a.x.max(b.x)
+            && p.y >= a.y.min(b.y)
+            && p.y <= a.y.max(b.y)
+    };
+    [(q1, p1, p2), (q2, p1, p2), (p1, q1, q2), (p2, q1, q2)]
+        .into_iter()
+        .find(|&(p, a, b)| on(a, b, p))
+        .map_or(p1, |(p, _, _)| p)
+}
+
+/// `at (x, y)` with `decimals` decimals, or `near (x, y)` where that
+/// rounds the point.
+pub(crate) fn point_text(p: DVec2, decimals: usize) -> String {
+    let number = |v: f64| {
+        let text = format!("{v:.decimals$}");
+        // -0 reads as a typo
+        let text = if text.trim_start_matches(['-', '0', '.']).is_empty() {
+            text.trim_start_matches('-').to_string()
+        } else {
+            text
+        };
+        let exact = text.parse::<f64>() == Ok(v);
+        (text, exact)
+    };
+    let ((x, x_exact), (y, y_exact)) = (number(p.x), number(p.y));
+    let word = if x_exact && y_exact { "at" } else { "near" };
+    format!("{word} ({x}, {y})")
 }

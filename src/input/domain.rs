@@ -51,6 +51,11 @@ pub enum DomainError {
     /// The geometry is not a valid domain (crossing loops, odd total...).
     #[error("{0}")]
     Geometry(String),
+    /// Keys the format does not know, each with where it is and the key
+    /// probably meant: refused, since a misspelt `holes` would silently
+    /// drop the holes.
+    #[error("unknown {}: {}", if .0.len() == 1 { "key" } else { "keys" }, .0.join(", "))]
+    UnknownKeys(Vec<String>),
 }
 
 fn key_err(key: &str, message: impl Into<String>) -> DomainError {
@@ -61,7 +66,11 @@ fn key_err(key: &str, message: impl Into<String>) -> DomainError {
 }
 
 pub use super::curves::{Chain, Curve, Edge};
-use super::curves::{chain_vertices, line_end, set_line_end, split_curve};
+use super::keys::unknown_keys;
+use super::curves::{
+    chain_vertices, input_decimals, line_end, meeting_point, point_text, set_line_end,
+    split_curve,
+};
 
 /// A validated domain: the only ways to make one are the constructors,
 /// [`Domain::from_file`], [`Domain::from_json_str`] and
@@ -74,7 +83,7 @@ use super::curves::{chain_vertices, line_end, set_line_end, split_curve};
 /// ```compile_fail
 /// // a hand-built domain does not compile: the fields are private
 /// let d = freemesh::Domain { name: "x".into(), size: 1.0, max_size: None,
-///     outer: todo!(), holes: vec![], lines: vec![], unknown_keys: vec![] };
+///     outer: todo!(), holes: vec![], lines: vec![], tags: vec![] };
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Domain {
@@ -95,75 +104,6 @@ pub struct Domain {
     /// The edge tags' names, in order of first appearance (outer, holes,
     /// lines, edge by edge); `Edge::tag` indexes this.
     pub(crate) tags: Vec<String>,
-    /// Keys the format does not know, each with where it is: ignored, and
-    /// worth a warning (a misspelt `holes` would silently drop the holes).
-    pub(crate) unknown_keys: Vec<String>,
-}
-
-/// The keys of each object of the format (domain-format.md).
-const TOP_KEYS: &[&str] = &["name", "size", "max_size", "outer", "holes", "lines"];
-const CHAIN_KEYS: &[&str] = &["points", "bulges", "segments", "tags", "circle", "crack"];
-const CIRCLE_KEYS: &[&str] = &["center", "radius", "segments", "tag"];
-
-/// Every key of the domain's objects that the format does not know, as
-/// "where: key (did you mean ...?)".
-fn unknown_keys(v: &Value) -> Vec<String> {
-    fn check(v: &Value, at: &str, known: &[&str], out: &mut Vec<String>) {
-        let Some(obj) = v.as_object() else { return };
-        for k in obj.keys() {
-            if known.contains(&k.as_str()) {
-                continue;
-            }
-            let near = known
-                .iter()
-                .min_by_key(|c| edit_distance(k, c))
-                .filter(|c| edit_distance(k, c) <= 2);
-            let at = if at.is_empty() {
-                String::new()
-            } else {
-                format!("{at}.")
-            };
-            out.push(match near {
-                Some(c) => format!("{at}{k} (did you mean {c}?)"),
-                None => format!("{at}{k}"),
-            });
-        }
-    }
-    let mut out = Vec::new();
-    check(v, "", TOP_KEYS, &mut out);
-    let chain = |c: &Value, at: String, out: &mut Vec<String>| {
-        check(c, &at, CHAIN_KEYS, out);
-        if let Some(circle) = c.get("circle") {
-            check(circle, &format!("{at}.circle"), CIRCLE_KEYS, out);
-        }
-    };
-    if let Some(o) = v.get("outer") {
-        chain(o, "outer".into(), &mut out);
-    }
-    for list in ["holes", "lines"] {
-        if let Some(items) = v.get(list).and_then(Value::as_array) {
-            for (i, c) in items.iter().enumerate() {
-                chain(c, format!("{list}[{i}]"), &mut out);
-            }
-        }
-    }
-    out
-}
-
-/// Levenshtein distance, for suggesting the key meant.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
 }
 
 fn num(v: &Value, key: &str) -> Result<f64, DomainError> {
@@ -423,6 +363,12 @@ impl Domain {
         let obj = v
             .as_object()
             .ok_or_else(|| key_err("(top level)", "expected a JSON object"))?;
+        // first: a misspelt key explains the missing one better than
+        // "size: missing key" would
+        let unknown = unknown_keys(v);
+        if !unknown.is_empty() {
+            return Err(DomainError::UnknownKeys(unknown));
+        }
         let name = match obj.get("name") {
             None | Some(Value::Null) => "domain".to_string(),
             Some(Value::String(s)) => s.clone(),
@@ -437,6 +383,12 @@ impl Domain {
             None | Some(Value::Null) => None,
             Some(x) => Some(positive(x, "max_size")?),
         };
+        if let Some(max_size) = max_size.filter(|&m| m < size) {
+            return Err(key_err(
+                "max_size",
+                format!("{max_size} is below size {size}"),
+            ));
+        }
         let mut tags = Vec::new();
         let outer = chain(
             obj.get("outer")
@@ -470,7 +422,6 @@ impl Domain {
             holes,
             lines,
             tags,
-            unknown_keys: unknown_keys(v),
         };
         d.attach_line_ends()?;
         d.check_geometry()?;
@@ -506,12 +457,6 @@ impl Domain {
                 .iter()
                 .map(|h| h.signed_area().abs())
                 .sum::<f64>()
-    }
-
-    /// Keys of the file the format does not know, each with where it is
-    /// (`holes[0]: segmnets`): ignored, and worth a warning.
-    pub fn unknown_keys(&self) -> &[String] {
-        &self.unknown_keys
     }
 
     /// All chains: outer first, then holes, then lines.
@@ -728,6 +673,7 @@ impl Domain {
                 }
             }
         }
+        let decimals = input_decimals(self.chains());
         let mut seen = std::collections::HashSet::new();
         for cellv in grid.values() {
             for (x, &i) in cellv.iter().enumerate() {
@@ -750,16 +696,19 @@ impl Domain {
                             continue;
                         }
                         return Err(DomainError::Geometry(format!(
-                            "{}: the loop intersects itself near ({:.6}, {:.6})",
-                            polys[ci].0, p1.x, p1.y
+                            "{}: the loop intersects itself {}",
+                            polys[ci].0,
+                            point_text(meeting_point(p1, p2, q1, q2, rel), decimals)
                         )));
                     }
                     if rel == SegmentRelation::Touch && self.meet_at_a_line_end(p1, p2, q1, q2) {
                         continue;
                     }
                     return Err(DomainError::Geometry(format!(
-                        "{} and {} cross or touch near ({:.6}, {:.6})",
-                        polys[ci].0, polys[cj].0, p1.x, p1.y
+                        "{} and {} cross or touch {}",
+                        polys[ci].0,
+                        polys[cj].0,
+                        point_text(meeting_point(p1, p2, q1, q2, rel), decimals)
                     )));
                 }
             }

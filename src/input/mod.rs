@@ -4,3 +4,4 @@
 pub mod boundary;
 pub mod curves;
 pub mod domain;
+mod keys;

@@ -1,8 +1,8 @@
 //! Reading a quadrilateral mesh written by freemesh or another program, so
 //! that `freemesh quality` can measure it: Gmsh's MSH (ASCII, versions 4.1
-//! and 2.2) and freemesh's JSON. 8- and 9-node quads are read as their
-//! corners; cells other than quads (points, lines, triangles) are counted,
-//! not kept.
+//! and 2.2; binary 4.1) and freemesh's JSON. 8- and 9-node quads are read
+//! as their corners; cells other than quads (points, lines, triangles) are
+//! counted, not kept.
 
 use glam::DVec2;
 use std::collections::HashMap;
@@ -41,7 +41,7 @@ pub enum ReadError {
 
 /// Reads a mesh file, by its extension: `.msh` or `.json`.
 pub fn read_mesh(path: &str) -> Result<ReadMesh, ReadError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ReadError::Io {
+    let bytes = std::fs::read(path).map_err(|e| ReadError::Io {
         path: path.into(),
         message: e.to_string(),
     })?;
@@ -49,12 +49,13 @@ pub fn read_mesh(path: &str) -> Result<ReadMesh, ReadError> {
         path: path.into(),
         message,
     };
-    let mut read = if path.ends_with(".json") {
-        from_json(&text).map_err(bad)?
-    } else if path.ends_with(".msh") {
-        from_msh(&text).map_err(bad)?
+    let mut read = if super::msh_binary::is_binary_msh(&bytes) {
+        from_binary_msh(&bytes).map_err(bad)?
     } else {
-        return Err(bad("unknown mesh format: give a .msh or .json file".into()));
+        let text = String::from_utf8(bytes).map_err(|_| {
+            bad("not a text file, nor a binary MSH 4.1 file: give ASCII MSH 4.1 or 2.2, binary MSH 4.1 or freemesh's JSON".into())
+        })?;
+        read_text(path, &text).map_err(bad)?
     };
     if read.mesh.quads.is_empty() {
         return Err(ReadError::Format {
@@ -64,6 +65,40 @@ pub fn read_mesh(path: &str) -> Result<ReadMesh, ReadError> {
     }
     orient_counter_clockwise(&mut read.mesh);
     Ok(read)
+}
+
+/// A text mesh file, by its extension.
+fn read_text(path: &str, text: &str) -> Result<ReadMesh, String> {
+    if path.ends_with(".json") {
+        from_json(text)
+    } else if path.ends_with(".msh") {
+        from_msh(text)
+    } else {
+        Err("unknown mesh format: give a .msh or .json file".into())
+    }
+}
+
+/// Gmsh's binary MSH 4.1: the quads kept, other faces counted.
+fn from_binary_msh(bytes: &[u8]) -> Result<ReadMesh, String> {
+    let cells = super::msh_binary::read(bytes)?;
+    let index = super::msh_binary::node_index(&cells);
+    let mut mesh = Mesh::default();
+    for &(_, x, y) in &cells.nodes {
+        mesh.add_node(DVec2::new(x, y), NodeKind::Interior);
+    }
+    let mut other_faces = 0;
+    for (kind, tags) in &cells.cells {
+        match kind {
+            3 => {
+                let ids: Option<Vec<u32>> = tags.iter().map(|t| index.get(t).copied()).collect();
+                let ids = ids.ok_or("a quad names a node the file does not have")?;
+                mesh.quads.push([ids[0], ids[1], ids[2], ids[3]]);
+            }
+            2 | 9 | 10 | 16 => other_faces += 1,
+            _ => {}
+        }
+    }
+    Ok(ReadMesh { mesh, other_faces })
 }
 
 /// Turns every quad counter-clockwise when most are clockwise (a mesh

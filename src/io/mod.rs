@@ -4,4 +4,5 @@
 pub mod dxf;
 mod inp;
 pub mod mesh_reader;
+mod msh_binary;
 pub mod output;

@@ -1,10 +1,13 @@
 //! Writers: Gmsh MSH 4.1 ASCII, legacy VTK, SVG, JSON and Abaqus `.inp`,
 //! chosen by the file extension; second-order elements in all but SVG. Every file is written to a temporary name beside it and
 //! renamed only when all outputs of the run are written, so a failed run
-//! leaves no output.
+//! leaves no output; an interrupted one removes its temporaries
+//! (`interrupt`).
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::geometry::quad_angles;
 use crate::mesh::Mesh;
@@ -32,13 +35,75 @@ pub enum OutputError {
     #[error("{0}: unknown output format (use .msh, .vtk, .svg, .json or .inp)")]
     UnknownFormat(String),
     /// The file could not be written.
-    #[error("{path}: cannot write: {source}")]
+    #[error("{path}: cannot write: {reason}")]
     Io {
         /// The file.
         path: String,
-        /// Why.
-        source: std::io::Error,
+        /// Why (as text: an error chain would repeat the system's reason).
+        reason: String,
     },
+}
+
+/// The temporaries being written, so that an interrupted run can remove
+/// them (`interrupt`).
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Makes the file `tmp` and lists it among the temporaries, both while
+/// the list is held: `interrupt` then finds every temporary made.
+fn make_temporary(tmp: &Path) -> std::io::Result<std::fs::File> {
+    let mut list = temporaries();
+    list.push(tmp.to_path_buf());
+    std::fs::File::create(tmp)
+}
+
+fn forget_temporary(tmp: &Path) {
+    temporaries().retain(|t| t != tmp);
+}
+
+/// For a signal handler, just before the process exits: removes the
+/// temporaries of the writes under way and keeps the list held, so that
+/// no other one is made and no temporary is renamed into place.
+pub fn interrupt() {
+    let list = temporaries();
+    for t in list.iter() {
+        let _ = std::fs::remove_file(t);
+    }
+    std::mem::forget(list);
+}
+
+/// Checks before a run that `path` can be written: its folder is there
+/// and a file can be made in it (the temporary the run will write, made
+/// and removed at once).
+pub fn check_writable(path: &Path) -> Result<(), OutputError> {
+    let fail = |reason: String| OutputError::Io {
+        path: path.display().to_string(),
+        reason,
+    };
+    let folder = match path.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(fail(if folder.exists() {
+            format!("{} is not a folder", folder.display())
+        } else {
+            format!("the folder {} does not exist", folder.display())
+        }));
+    }
+    if path.is_dir() || path.file_name().is_none() {
+        return Err(fail("it is a folder, not a file name".into()));
+    }
+    let tmp = tmp_name(path);
+    let made = make_temporary(&tmp);
+    if made.is_ok() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    forget_temporary(&tmp);
+    made.map(|_| ()).map_err(|e| fail(e.to_string()))
 }
 
 impl Format {
@@ -82,29 +147,35 @@ fn element_nodes<'a>(mesh: &'a Mesh, second: Option<&'a SecondOrder>, q: usize) 
 
 /// Writes several files all or nothing: temporaries first, then renames.
 pub fn write_all(files: &[(PathBuf, String)]) -> Result<(), OutputError> {
-    let mut temps = Vec::new();
-    for (path, text) in files {
-        let tmp = tmp_name(path);
-        if let Err(source) = std::fs::write(&tmp, text) {
-            for t in &temps {
-                let _ = std::fs::remove_file(t);
-            }
-            let _ = std::fs::remove_file(&tmp);
+    let temps: Vec<PathBuf> = files.iter().map(|(path, _)| tmp_name(path)).collect();
+    let remove_all = || {
+        for t in &temps {
+            let _ = std::fs::remove_file(t);
+            forget_temporary(t);
+        }
+    };
+    for ((path, text), tmp) in files.iter().zip(&temps) {
+        let written = make_temporary(tmp).and_then(|mut f| f.write_all(text.as_bytes()));
+        if let Err(e) = written {
+            remove_all();
             return Err(OutputError::Io {
                 path: path.display().to_string(),
-                source,
+                reason: e.to_string(),
             });
         }
-        temps.push(tmp);
     }
     for ((path, _), tmp) in files.iter().zip(&temps) {
-        if let Err(source) = std::fs::rename(tmp, path) {
-            for t in &temps {
-                let _ = std::fs::remove_file(t);
-            }
+        // renamed while the list is held: an interruption removes the
+        // temporary or finds it renamed, never half of each
+        let mut list = temporaries();
+        let renamed = std::fs::rename(tmp, path);
+        list.retain(|t| t != tmp);
+        drop(list);
+        if let Err(e) = renamed {
+            remove_all();
             return Err(OutputError::Io {
                 path: path.display().to_string(),
-                source,
+                reason: e.to_string(),
             });
         }
     }

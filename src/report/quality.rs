@@ -26,6 +26,8 @@ pub struct Quality {
     /// Share of quads with every angle in `corner_window`, in percent
     /// (named for the built-in window).
     pub pct_45_135: f64,
+    /// Number of quads with a corner outside [45, 135].
+    pub outside_45_135: usize,
     /// Smallest scaled Jacobian.
     pub min_scaled_jacobian: f64,
     /// Largest aspect ratio.
@@ -51,6 +53,7 @@ pub(crate) fn measure_within(mesh: &Mesh, bounds: &ElementBounds) -> Quality {
         max_angle: 0.0,
         corner_window: [bounds.lower_corner, bounds.upper_corner],
         pct_45_135: 0.0,
+        outside_45_135: 0,
         min_scaled_jacobian: 1.0,
         max_aspect: 1.0,
         max_taper: 1.0,
@@ -78,6 +81,7 @@ pub(crate) fn measure_within(mesh: &Mesh, bounds: &ElementBounds) -> Quality {
     if !mesh.quads.is_empty() {
         q.pct_45_135 = 100.0 * good as f64 / mesh.quads.len() as f64;
     }
+    q.outside_45_135 = mesh.quads.len() - good;
     let mut owner: FxHashMap<(u32, u32), u32> =
         FxHashMap::with_capacity_and_hasher(2 * mesh.quads.len(), Default::default());
     for (qi, quad) in mesh.quads.iter().enumerate() {
