@@ -23,7 +23,7 @@
 //! let mut kb = KnowledgeBase::builtin()?;
 //! let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})?;
 //! // 8 by 4 squares of the boundary size fill it
-//! assert_eq!(result.mesh.quads.len(), 32);
+//! assert_eq!(result.mesh.quads().len(), 32);
 //! assert!(result.quality.min_angle > 80.0);
 //! assert!(result.stopped_short.is_none());
 //! # Ok::<(), Box<dyn std::error::Error>>(())

@@ -524,7 +524,7 @@ fn mesh_one(
     eprintln!(
         "{}: {} nodes, {} quads, angles {} deg, {} in [{}, {}]{}, {} fallback splits{}, {:.3} s; made {}",
         domain.name(),
-        result.mesh.nodes.len(),
+        result.mesh.nodes().len(),
         q.quads,
         angle_range_text(q),
         share_text(q),

@@ -38,30 +38,78 @@ impl BoundaryEdge {
 }
 
 /// An all-quadrilateral mesh (under construction or finished).
+///
+/// Its parts are read through accessors and cannot be set from outside
+/// the crate, so every mesh a user holds has its node ids in range
+/// (`Mesh::default()`, the empty mesh, is valid too):
+///
+/// ```compile_fail
+/// let mut mesh = freemesh::Mesh::default();
+/// mesh.quads.push([0, 1, 2, 99]);
+/// ```
+///
+/// ```compile_fail
+/// let mesh = freemesh::Mesh { quads: vec![[0, 1, 2, 99]], ..Default::default() };
+/// ```
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
     /// Node coordinates.
-    pub nodes: Vec<DVec2>,
+    pub(crate) nodes: Vec<DVec2>,
     /// What each node is.
-    pub kinds: Vec<NodeKind>,
+    pub(crate) kinds: Vec<NodeKind>,
     /// Quadrilaterals, counter-clockwise node ids.
-    pub quads: Vec<[u32; 4]>,
+    pub(crate) quads: Vec<[u32; 4]>,
     /// Edges of the input loops and inner lines.
-    pub boundary: Vec<BoundaryEdge>,
+    pub(crate) boundary: Vec<BoundaryEdge>,
     /// Names of the physical groups of boundary edges: `outer`, `hole 1`,
     /// `line 1`, ..., then the tags and crack faces (`crack 1 +`, ...).
-    pub groups: Vec<String>,
+    pub(crate) groups: Vec<String>,
     /// The region of each quad (0-based; `region 1` in the outputs): the
     /// parts of the domain the loops and lines enclose, found by a flood
     /// fill across element edges that are on no line. Empty until the
     /// mesh is finished.
-    pub regions: Vec<u32>,
+    pub(crate) regions: Vec<u32>,
     /// The groups of the lines that are cracks (`"crack": true`): the
     /// mesh is cut open along them when it is finished.
-    pub crack_lines: Vec<u32>,
+    pub(crate) crack_lines: Vec<u32>,
 }
 
 impl Mesh {
+    /// Node coordinates.
+    pub fn nodes(&self) -> &[DVec2] {
+        &self.nodes
+    }
+
+    /// What each node is, in the order of `nodes()`.
+    pub fn kinds(&self) -> &[NodeKind] {
+        &self.kinds
+    }
+
+    /// Quadrilaterals, counter-clockwise node ids (each below `nodes().len()`).
+    pub fn quads(&self) -> &[[u32; 4]] {
+        &self.quads
+    }
+
+    /// Edges of the input loops and inner lines.
+    pub fn boundary(&self) -> &[BoundaryEdge] {
+        &self.boundary
+    }
+
+    /// Names of the physical groups of boundary edges (see `BoundaryEdge::group`).
+    pub fn groups(&self) -> &[String] {
+        &self.groups
+    }
+
+    /// The region of each quad (0-based), empty until the mesh is finished.
+    pub fn regions(&self) -> &[u32] {
+        &self.regions
+    }
+
+    /// The groups of the lines that are cracks.
+    pub fn crack_lines(&self) -> &[u32] {
+        &self.crack_lines
+    }
+
     /// Adds a node, returning its id.
     pub fn add_node(&mut self, p: DVec2, kind: NodeKind) -> u32 {
         self.nodes.push(p);
@@ -69,7 +117,8 @@ impl Mesh {
         (self.nodes.len() - 1) as u32
     }
 
-    /// The corner positions of quad `q`.
+    /// The corner positions of quad `q` (`q` below `quads().len()`, as
+    /// for indexing a slice).
     pub fn quad_points(&self, q: usize) -> [DVec2; 4] {
         self.quads[q].map(|n| self.nodes[n as usize])
     }

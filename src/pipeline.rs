@@ -287,7 +287,7 @@ pub fn domain_features(
 /// let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| steps += 1).unwrap();
 /// assert!(steps > 0);
 /// // the elements cover the L's area, 12, once
-/// let area: f64 = (0..result.mesh.quads.len())
+/// let area: f64 = (0..result.mesh.quads().len())
 ///     .map(|q| {
 ///         let p = result.mesh.quad_points(q);
 ///         (0..4).map(|i| p[i].perp_dot(p[(i + 1) % 4]) / 2.0).sum::<f64>()

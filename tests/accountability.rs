@@ -16,7 +16,7 @@ fn every_step_names_its_maker_and_every_veto_is_traced_and_counted() {
     }
     assert!(r.stats.made_by()[0] == (By::Rule, r.stats.designed));
     assert!(
-        r.stats.designed > r.mesh.quads.len() / 2,
+        r.stats.designed > r.mesh.quads().len() / 2,
         "most elements by the rules"
     );
     // the vetoes: each in the trace, before the step that came next

@@ -8,7 +8,7 @@ const PLATE: &str = "tests/bounds/plate-holes.json";
 
 /// The share of quads (percent) with every corner in [lo, hi] degrees.
 fn share_within(mesh: &Mesh, lo: f64, hi: f64) -> f64 {
-    let good = (0..mesh.quads.len())
+    let good = (0..mesh.quads().len())
         .filter(|&q| {
             let p = mesh.quad_points(q);
             (0..4).all(|i| {
@@ -19,7 +19,7 @@ fn share_within(mesh: &Mesh, lo: f64, hi: f64) -> f64 {
             })
         })
         .count();
-    100.0 * good as f64 / mesh.quads.len() as f64
+    100.0 * good as f64 / mesh.quads().len() as f64
 }
 
 fn mesh_plate(kb_file: Option<&str>) -> MeshResult {

@@ -3,7 +3,8 @@
 //! range, a domain that is not one, a run the rules cannot finish.
 
 use freemesh::{More, 
-    mesh_domain, Domain, DomainError, Error, KnowledgeBase, OptionError, Options, RunOption,
+    angle_bins, angle_histogram, measure_quality, mesh_domain, read_mesh, render, Domain,
+    DomainError, Error, Format, KnowledgeBase, Mesh, OptionError, Options, RunOption,
     UserAnswer,
 };
 
@@ -169,8 +170,8 @@ fn the_self_check_changes_no_mesh() {
         ..Options::default()
     };
     let checked = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).unwrap();
-    assert_eq!(plain.mesh.nodes, checked.mesh.nodes);
-    assert_eq!(plain.mesh.quads, checked.mesh.quads);
+    assert_eq!(plain.mesh.nodes(), checked.mesh.nodes());
+    assert_eq!(plain.mesh.quads(), checked.mesh.quads());
     assert!(plain.stopped_short.is_none());
 }
 
@@ -189,4 +190,46 @@ fn the_knowledge_base_lists_its_files_and_counts_its_queries() {
         r.kb_stats.engine_queries,
         kb.stats().engine_queries - before
     );
+}
+
+/// A `Mesh` cannot be put together by hand outside the crate (its fields
+/// are private: the `compile_fail` examples on `Mesh` show both ways
+/// refused), so the functions that take one never meet a node id out of
+/// range: a user's mesh is the empty one, a run's, or one read from a
+/// file, and the reader refuses a bad id with an error.
+#[test]
+fn a_mesh_is_made_only_valid() {
+    // the empty mesh is one
+    let empty = Mesh::default();
+    assert!(empty.nodes().is_empty() && empty.quads().is_empty());
+    let _ = measure_quality(&empty);
+    assert_eq!(angle_bins(&empty).iter().sum::<usize>(), 0);
+    let _ = angle_histogram(&empty);
+    for format in [Format::Msh, Format::Vtk, Format::Svg, Format::Json, Format::Inp] {
+        let _ = render(&empty, None, "empty", format);
+    }
+    // a quad naming a node the file does not have: an error, not a panic
+    let dir = std::env::temp_dir().join(format!("freemesh-api-tests-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"nodes": [[0, 0], [1, 0], [1, 1], [0, 1]], "quads": [[0, 1, 2, 99]]}"#,
+    )
+    .unwrap();
+    let read = read_mesh(bad.to_str().unwrap());
+    assert!(read.is_err(), "a node id out of range was read");
+    // the same quad with its ids in range is read, and measured
+    let good = dir.join("good.json");
+    std::fs::write(
+        &good,
+        r#"{"nodes": [[0, 0], [1, 0], [1, 1], [0, 1]], "quads": [[0, 1, 2, 3]]}"#,
+    )
+    .unwrap();
+    let read = read_mesh(good.to_str().unwrap()).unwrap();
+    assert_eq!(read.mesh.quads(), &[[0, 1, 2, 3]]);
+    assert_eq!(read.mesh.nodes().len(), 4);
+    assert!((measure_quality(&read.mesh).min_angle - 90.0).abs() < 1e-9);
+    let _ = render(&read.mesh, None, "good", Format::Svg);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -33,7 +33,7 @@ fn the_repls_run_finishes_a_stuck_domain_as_mesh_does() {
     let counts = format!(
         "{} quads, {} nodes",
         meshed.quality.quads,
-        meshed.mesh.nodes.len()
+        meshed.mesh.nodes().len()
     );
     assert!(last.contains(&counts), "{last} (mesh made {counts})");
 }

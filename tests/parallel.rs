@@ -15,9 +15,9 @@ fn a_second_engine_or_no_trace_gives_the_same_mesh_and_trace() {
     let mut one = KnowledgeBase::builtin().unwrap();
     let alone = mesh_domain(&domain, &mut one, &opts, &mut |_| {}).unwrap();
     assert!(
-        alone.mesh.nodes.len() > 20_000,
+        alone.mesh.nodes().len() > 20_000,
         "large enough to be smoothed in halves: {} nodes",
-        alone.mesh.nodes.len()
+        alone.mesh.nodes().len()
     );
     assert_eq!(alone.kb_stats.second_engine_queries, 0);
 
@@ -26,8 +26,8 @@ fn a_second_engine_or_no_trace_gives_the_same_mesh_and_trace() {
     assert!(two.wait_for_second_engine(Duration::from_secs(120)));
     let shared = mesh_domain(&domain, &mut two, &opts, &mut |_| {}).unwrap();
     assert!(shared.kb_stats.second_engine_queries > 0);
-    assert_eq!(shared.mesh.nodes, alone.mesh.nodes);
-    assert_eq!(shared.mesh.quads, alone.mesh.quads);
+    assert_eq!(shared.mesh.nodes(), alone.mesh.nodes());
+    assert_eq!(shared.mesh.quads(), alone.mesh.quads());
     assert_eq!(shared.trace, alone.trace);
 
     let mut three = KnowledgeBase::builtin().unwrap();
@@ -40,6 +40,6 @@ fn a_second_engine_or_no_trace_gives_the_same_mesh_and_trace() {
     .unwrap();
     assert!(untraced.trace.is_empty());
     assert!(!alone.trace.is_empty());
-    assert_eq!(untraced.mesh.nodes, alone.mesh.nodes);
-    assert_eq!(untraced.mesh.quads, alone.mesh.quads);
+    assert_eq!(untraced.mesh.nodes(), alone.mesh.nodes());
+    assert_eq!(untraced.mesh.quads(), alone.mesh.quads());
 }

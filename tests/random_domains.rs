@@ -276,10 +276,10 @@ fn mesh_fault(nodes: &[glam::DVec2], quads: &[[u32; 4]], area: f64) -> Option<St
 /// The area inside the loops' edges (groups below `loops`: the outer loop
 /// counter-clockwise, holes clockwise): what the quads must cover.
 fn boundary_area(mesh: &freemesh::Mesh, loops: u32) -> f64 {
-    mesh.boundary
+    mesh.boundary()
         .iter()
         .filter(|e| e.group < loops)
-        .map(|e| mesh.nodes[e.a as usize].perp_dot(mesh.nodes[e.b as usize]) / 2.0)
+        .map(|e| mesh.nodes()[e.a as usize].perp_dot(mesh.nodes()[e.b as usize]) / 2.0)
         .sum()
 }
 
@@ -287,12 +287,12 @@ fn boundary_area(mesh: &freemesh::Mesh, loops: u32) -> f64 {
 /// its direction (the domain on its left), an inner line's either way.
 fn boundary_not_followed(mesh: &freemesh::Mesh, loops: u32) -> Option<(u32, u32)> {
     let mut quad_edges = std::collections::HashSet::new();
-    for q in &mesh.quads {
+    for q in mesh.quads() {
         for i in 0..4 {
             quad_edges.insert((q[i], q[(i + 1) % 4]));
         }
     }
-    mesh.boundary
+    mesh.boundary()
         .iter()
         .find(|e| {
             !quad_edges.contains(&(e.a, e.b))
@@ -358,7 +358,7 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
             Ok(r) => {
                 let loops = 1 + domain.hole_count() as u32;
                 let area = boundary_area(&r.mesh, loops);
-                let fault = mesh_fault(&r.mesh.nodes, &r.mesh.quads, area).or_else(|| {
+                let fault = mesh_fault(&r.mesh.nodes(), &r.mesh.quads(), area).or_else(|| {
                     boundary_not_followed(&r.mesh, loops)
                         .map(|e| format!("boundary edge {e:?} is no element's edge"))
                 });

@@ -37,8 +37,8 @@ fn polygon_area(p: &[DVec2]) -> f64 {
 /// The area of each region's quads.
 fn region_areas(m: &Mesh) -> Vec<f64> {
     let mut out = vec![0.0; m.region_count() as usize];
-    for q in 0..m.quads.len() {
-        out[m.regions[q] as usize] += polygon_area(&m.quad_points(q));
+    for q in 0..m.quads().len() {
+        out[m.regions()[q] as usize] += polygon_area(&m.quad_points(q));
     }
     out
 }
@@ -46,13 +46,13 @@ fn region_areas(m: &Mesh) -> Vec<f64> {
 /// The boundary edges of the group named `name`, as point pairs.
 fn group(m: &Mesh, name: &str) -> Vec<(DVec2, DVec2)> {
     let g = m
-        .groups
+        .groups()
         .iter()
         .position(|x| x == name)
         .expect("the group exists");
     m.group_edges()[g]
         .iter()
-        .map(|&(a, b)| (m.nodes[a as usize], m.nodes[b as usize]))
+        .map(|&(a, b)| (m.nodes()[a as usize], m.nodes()[b as usize]))
         .collect()
 }
 
@@ -198,8 +198,8 @@ fn a_line_across_the_plate_parts_it_in_two_regions() {
     // each region lies on one side of the line (1.5, 0) -> (2.5, 2)
     let (a, b) = (DVec2::new(1.5, 0.0), DVec2::new(2.5, 2.0));
     let side = |q: usize| (b - a).perp_dot(centroid(&m, q) - a) > 0.0;
-    for q in 0..m.quads.len() {
-        assert_eq!(side(q), side(0) == (m.regions[q] == m.regions[0]));
+    for q in 0..m.quads().len() {
+        assert_eq!(side(q), side(0) == (m.regions()[q] == m.regions()[0]));
     }
     let left = polygon_area(&[DVec2::ZERO, a, b, DVec2::new(0.0, 2.0)]);
     let mut areas = region_areas(&m);
@@ -225,7 +225,7 @@ fn a_t_junction_gives_three_regions() {
         assert!((got - want).abs() < 1e-9, "{areas:?}");
     }
     // the junction (2, 1) is one node, shared by the two lines
-    let at = |p: DVec2| m.nodes.iter().filter(|&&n| n == p).count();
+    let at = |p: DVec2| m.nodes().iter().filter(|&&n| n == p).count();
     assert_eq!(at(DVec2::new(2.0, 1.0)), 1);
 }
 
@@ -250,7 +250,7 @@ fn lines_that_meet_enclose_a_region_and_join_a_hole_without_a_cut() {
 fn an_edge_crack_opens_with_two_nodes_at_each_point_but_the_tip() {
     let m = mesh_of("tests/partitions/edge-crack.json");
     let at = |p: DVec2| {
-        m.nodes
+        m.nodes()
             .iter()
             .filter(|&&n| (n - p).length() < 1e-12)
             .count()
@@ -269,17 +269,17 @@ fn an_edge_crack_opens_with_two_nodes_at_each_point_but_the_tip() {
     let above = group(&m, "crack 1 +");
     let below = group(&m, "crack 1 -");
     assert_eq!((above.len(), below.len()), (8, 8));
-    let nodes_of = |q: usize| m.quads[q].to_vec();
-    for q in 0..m.quads.len() {
+    let nodes_of = |q: usize| m.quads()[q].to_vec();
+    for q in 0..m.quads().len() {
         let c = centroid(&m, q);
         // no element above the crack shares a crack node with one below,
         // but at the tip
         if c.x < 2.0 && c.y > 1.0 {
-            for r in 0..m.quads.len() {
+            for r in 0..m.quads().len() {
                 let d = centroid(&m, r);
                 if d.x < 2.0 && d.y < 1.0 {
                     for n in nodes_of(q) {
-                        let p = m.nodes[n as usize];
+                        let p = m.nodes()[n as usize];
                         if nodes_of(r).contains(&n) {
                             assert_eq!(p, DVec2::new(2.0, 1.0), "quads {q} and {r} share {p}");
                         }
@@ -295,7 +295,7 @@ fn an_edge_crack_opens_with_two_nodes_at_each_point_but_the_tip() {
 #[test]
 fn a_domain_without_the_new_keys_writes_no_new_groups() {
     let m = mesh_of("tests/inputs/plate-hole.json");
-    assert_eq!(m.groups, ["outer", "hole 1"]);
+    assert_eq!(m.groups(), ["outer", "hole 1"]);
     assert_eq!(m.region_count(), 1);
     let msh = freemesh::render(&m, None, "plate", freemesh::Format::Msh);
     assert!(!msh.contains("region"));
@@ -384,8 +384,8 @@ fn a_line_ending_on_a_loop_vertex_or_edge_is_accepted_as_a_corner_of_both() {
         .unwrap()
         .mesh;
     // both ends are corners: nodes of the mesh
-    assert!(m.nodes.contains(&DVec2::new(2.0, 0.0)));
-    assert!(m.nodes.contains(&DVec2::new(4.0, 4.0)));
+    assert!(m.nodes().contains(&DVec2::new(2.0, 0.0)));
+    assert!(m.nodes().contains(&DVec2::new(4.0, 4.0)));
     // the bottom edge split at (2, 0), each half keeping the tag
     let bottom = group(&m, "b");
     let length: f64 = bottom.iter().map(|(p, q)| (*q - *p).length()).sum();
@@ -475,13 +475,13 @@ fn random_partitions_cracks_and_t_junctions_mesh_into_their_regions() {
         assert!((total - w * h).abs() < 1e-6 * w * h, "seed {seed}: {total}");
         // every line segment is an element edge (a crack's, twice)
         let mut edges = std::collections::HashSet::new();
-        for q in &m.quads {
+        for q in m.quads() {
             for k in 0..4 {
                 edges.insert((q[k].min(q[(k + 1) % 4]), q[k].max(q[(k + 1) % 4])));
             }
         }
         assert!(
-            m.boundary
+            m.boundary()
                 .iter()
                 .all(|e| edges.contains(&(e.a.min(e.b), e.a.max(e.b)))),
             "seed {seed}"

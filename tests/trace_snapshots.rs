@@ -11,8 +11,8 @@ fn trace_text(path: &std::path::Path) -> String {
         .expect("the test domain meshes");
     let mut s = format!(
         "{} quads, {} nodes, {} fallback splits\n",
-        r.mesh.quads.len(),
-        r.mesh.nodes.len(),
+        r.mesh.quads().len(),
+        r.mesh.nodes().len(),
         r.stats.fallback_splits
     );
     for t in &r.trace {

@@ -136,8 +136,7 @@ fn from_json(text: &str) -> Result<ReadMesh, String> {
             .as_array()
             .map(|a| {
                 a.iter()
-                    .filter_map(|x| x.as_u64())
-                    .map(|x| x as u32)
+                    .filter_map(|x| x.as_u64().and_then(|x| u32::try_from(x).ok()))
                     .collect()
             })
             .unwrap_or_default();
