@@ -57,20 +57,30 @@ impl ElementKind {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SecondOrder {
     /// 8 or 9 nodes an element.
-    pub kind: ElementKind,
+    pub(crate) kind: ElementKind,
     /// The added nodes, numbered after the mesh's own: the mid-edge nodes
     /// in the order the elements first reach them, then the centres.
-    pub nodes: Vec<DVec2>,
+    pub(crate) nodes: Vec<DVec2>,
     /// Each element's nodes, `kind.nodes()` a row, in the mesh's element
     /// order: its 4 corners, the middles of edges 0-1, 1-2, 2-3, 3-0, the
     /// centre.
-    pub elements: Vec<u32>,
+    pub(crate) elements: Vec<u32>,
     /// The mid-edge node of each element edge, by its corner nodes (the
     /// smaller id first).
     middles: HashMap<(u32, u32), u32>,
 }
 
 impl SecondOrder {
+    /// 8 or 9 nodes an element.
+    pub fn kind(&self) -> ElementKind {
+        self.kind
+    }
+
+    /// The added nodes, numbered after the mesh's own.
+    pub fn nodes(&self) -> &[DVec2] {
+        &self.nodes
+    }
+
     /// The element nodes of quad `q`.
     pub fn element(&self, q: usize) -> &[u32] {
         let n = self.kind.nodes();
