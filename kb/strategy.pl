@@ -66,6 +66,12 @@ strategy([b4, b5, b3, b2, b1]).
 % centre_search_below: a final pattern's inner node (Eq. 5, 6) whose
 %   elements would have a corner within this many deg of 0 or 180 is
 %   moved to the best place of a search over the loop.
+% fallback_take_back: where the rules and the loop subdivision stop, the
+%   elements next to an open loop whose area is under this many element
+%   sizes squared (the rules shrinking elements in a slit) are taken back
+%   into it before the open loops are meshed by triangles.
+% fallback_spacing: the spacing of those triangles' interior points, in
+%   element sizes (each triangle is split into three quads).
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -88,3 +94,5 @@ bound(relation_corner, 90).
 bound(relation_inner_above, 120).
 bound(relation_reach, 1).
 bound(centre_search_below, 30).
+bound(fallback_take_back, 0.25).
+bound(fallback_spacing, 1.5).

@@ -207,7 +207,9 @@ pub fn front_facts(front: &Front, nodes: &[DVec2]) -> FrontFacts {
             for mirrored in [false, true] {
                 let lab = labels(front, fv, mirrored);
                 let from = front.node(lab.n1);
-                facts.contexts.push((n, next, from, context(front, nodes, &lab)));
+                facts
+                    .contexts
+                    .push((n, next, from, context(front, nodes, &lab)));
             }
         }
     }

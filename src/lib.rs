@@ -74,8 +74,8 @@ pub use second_order::{ElementKind, SecondOrder};
 // The binary's other commands: the boundary made ready while the engine
 // loads, the features of a domain, the writers and the mesh reader, the
 // quality figures of a mesh file, the REPL.
-pub use io::dxf::{read_dxf, DomainFile, Outline};
 pub use features::{EdgeFeature, FrontFeatures, NodeFeature};
+pub use io::dxf::{read_dxf, DomainFile, Outline};
 pub use io::mesh_reader::{read_mesh, ReadError, ReadMesh};
 pub use io::output::{
     check_writable, interrupt as interrupt_writes, render, write_all, Format, OutputError,

@@ -63,10 +63,7 @@ fn dxf_domain_file(
     path: &std::path::Path,
     size: Option<f64>,
     max_size: Option<f64>,
-) -> Result<(
-    freemesh::DomainFile,
-    freemesh::Outline,
-)> {
+) -> Result<(freemesh::DomainFile, freemesh::Outline)> {
     let Some(size) = size else {
         anyhow::bail!(
             "{}: a DXF drawing gives no element size: give one with --size H (the boundary segment length)",
@@ -532,11 +529,7 @@ fn mesh_one(
         q.corner_window[1],
         outside_text(q),
         result.stats.fallback_splits,
-        if result.stats.triangle_fallbacks > 0 {
-            " (the rules stopped: meshed whole by the triangle fallback)"
-        } else {
-            ""
-        },
+        result.stats.stopped_text(),
         elapsed,
         result.stats.made_by_text()
     );
@@ -609,15 +602,24 @@ mod tests {
     #[test]
     fn a_share_just_below_all_is_rounded_down_with_the_count_outside() {
         let q = quality(8000, 3, 44.0, 130.0);
-        assert_eq!((share_text(&q), outside_text(&q).as_str()), ("99.9%".into(), " (3 outside)"));
+        assert_eq!(
+            (share_text(&q), outside_text(&q).as_str()),
+            ("99.9%".into(), " (3 outside)")
+        );
         let q = quality(8000, 0, 45.0, 130.0);
-        assert_eq!((share_text(&q), outside_text(&q).as_str()), ("100.0%".into(), ""));
+        assert_eq!(
+            (share_text(&q), outside_text(&q).as_str()),
+            ("100.0%".into(), "")
+        );
         assert_eq!(share_text(&quality(3, 1, 44.0, 130.0)), "66.6%");
     }
 
     #[test]
     fn the_angle_range_is_rounded_outward() {
-        assert_eq!(angle_range_text(&quality(1, 1, 44.96, 135.04)), "44.9..135.1");
+        assert_eq!(
+            angle_range_text(&quality(1, 1, 44.96, 135.04)),
+            "44.9..135.1"
+        );
         assert_eq!(angle_range_text(&quality(1, 0, 45.0, 135.0)), "45.0..135.0");
         assert_eq!(
             angle_range_text(&quality(1, 0, 89.999_999_99, 90.000_000_01)),

@@ -37,6 +37,13 @@ pub struct MeshStats {
     pub merges: usize,
     /// Elements taken back to give a stuck loop room.
     pub unmeshed: usize,
+    /// Elements made inside the loops the rules and the loop subdivision
+    /// left open (see fallback/stuck_loops.rs).
+    pub loop_triangle_elements: usize,
+    /// The open loops so closed.
+    pub open_loops_closed: usize,
+    /// The rules' elements split to carry that fallback's halving.
+    pub chord_split_elements: usize,
     /// Runs the rules could not finish, meshed whole by the last resort
     /// (triangles split into quads, see fallback/triangles.rs).
     pub triangle_fallbacks: usize,
@@ -59,8 +66,25 @@ impl MeshStats {
             (By::Chord, of(self.fallback_splits - self.rings)),
             (By::Ring, of(self.ring_elements)),
             (By::Unmesh, of(self.unmeshed)),
-            (By::Triangles, t),
+            (By::Triangles, t + of(self.loop_triangle_elements)),
         ]
+    }
+
+    /// What the summary says where the rules stopped short: ` (the rules
+    /// stopped: ...)`, or nothing.
+    pub fn stopped_text(&self) -> String {
+        if self.triangle_fallbacks > 0 {
+            " (the rules stopped: meshed whole by the triangle fallback)".into()
+        } else if self.open_loops_closed > 0 {
+            format!(
+                " (the rules stopped: {} open loop{} closed by triangles, {} elements split along their rows)",
+                self.open_loops_closed,
+                if self.open_loops_closed == 1 { "" } else { "s" },
+                self.chord_split_elements
+            )
+        } else {
+            String::new()
+        }
     }
 
     /// The summary's words for `made_by` and the vetoes: `by rule 700,

@@ -490,12 +490,6 @@ impl<'k> Run<'k> {
                 }
             }
         };
-        self.last_resort(reason)
-    }
-
-    /// The whole domain meshed by triangles split into quads, the trace
-    /// one step saying why.
-    fn last_resort(&mut self, reason: String) -> Result<MeshResult, Error> {
         // the state where meshing stopped, kept for whoever asks why
         let stopped_short = StoppedShort {
             picture: crate::io::output::to_svg(
@@ -506,6 +500,81 @@ impl<'k> Run<'k> {
             trace: self.mesher.trace().to_vec(),
             reason: reason.clone(),
         };
+        if let Some(r) = self.close_open_loops(&reason, &stopped_short)? {
+            return Ok(r);
+        }
+        self.last_resort(reason, stopped_short)
+    }
+
+    /// Where the recursion stopped short: the loops left open meshed by
+    /// triangles split into quads, the rules' elements kept (see
+    /// fallback/stuck_loops.rs). None when that fails or its mesh fails
+    /// the check: the last resort then meshes the whole domain.
+    fn close_open_loops(
+        &mut self,
+        reason: &str,
+        stopped_short: &StoppedShort,
+    ) -> Result<Option<MeshResult>, Error> {
+        let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
+        let loops = self.mesher.front_node_loops();
+        let host = self.mesher.settings().host;
+        let closed = match crate::fallback::stuck_loops::close_open_loops(
+            self.mesher.mesh(),
+            &loops,
+            &self.domain,
+            host.fallback_spacing * self.size,
+            Some(host.fallback_take_back * self.size * self.size),
+        ) {
+            Ok(c) => c,
+            Err(_) => return Ok(None),
+        };
+        let bounds = self.mesher.settings().element;
+        let kb_after = self.mesher.kb().stats;
+        let mut outcome = self.mesher.take_outcome();
+        outcome.mesh = closed.mesh;
+        // the halved boundary segments' nodes are on the curves: the
+        // area the elements must cover is the new boundary's
+        outcome.area = boundary_area(&outcome.mesh, 1 + self.domain.holes.len() as u32);
+        outcome.stats.loop_triangle_elements += closed.loop_elements;
+        outcome.stats.open_loops_closed += loops.len();
+        outcome.stats.chord_split_elements += closed.split_elements;
+        outcome.stats.unmeshed += closed.taken_back;
+        if self.opts.trace {
+            outcome.trace.push(TraceStep {
+                step: outcome.trace.len() + 1,
+                edge: [-1, -1],
+                angles: Default::default(),
+                feature: "stuck".into(),
+                action: format!(
+                    "loop_triangle_split({}, {}, {})",
+                    loops.len(),
+                    closed.loop_elements,
+                    closed.split_elements
+                ),
+                by: By::Triangles,
+                redesign: vec![reason.to_string()],
+                element: vec![],
+            });
+        }
+        match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {
+            Ok(mut r) => {
+                r.phases.prepare = self.prepare;
+                r.phases.recursion = recursion;
+                r.stopped_short = Some(stopped_short.clone());
+                Ok(Some(r))
+            }
+            Err(Error::Check(_)) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The whole domain meshed by triangles split into quads, the trace
+    /// one step saying why.
+    fn last_resort(
+        &mut self,
+        reason: String,
+        stopped_short: StoppedShort,
+    ) -> Result<MeshResult, Error> {
         let mut mesh = mesh_by_triangles(&self.domain, &self.boundary, self.size)?;
         mesh.crack_lines = self.boundary.mesh.crack_lines.clone();
         let mut stats = self.mesher.stats();

@@ -9,8 +9,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use freemesh::{Flow, Repl};
 use freemesh::KnowledgeBase;
+use freemesh::{Flow, Repl};
 
 use crate::cli::ReplArgs;
 

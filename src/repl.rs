@@ -421,11 +421,7 @@ impl<'k> Repl<'k> {
                     r.quality.corner_window[0],
                     r.quality.corner_window[1],
                     r.stats.fallback_splits,
-                    if r.stats.triangle_fallbacks > 0 {
-                        " (the rules stopped: meshed whole by the triangle fallback)"
-                    } else {
-                        ""
-                    }
+                    r.stats.stopped_text()
                 )?;
                 self.finished = Some(r);
             }

@@ -198,19 +198,26 @@ pub struct HostBounds {
     /// whose elements have a corner closer than this to 0 or 180 degrees
     /// is moved to the best place of a search.
     pub centre_search_below: f64,
+    /// `fallback_take_back`: where the rules stop, the elements next to an
+    /// open loop with an area under this many element sizes squared are
+    /// taken back into it (see fallback/stuck_loops.rs).
+    pub fallback_take_back: f64,
+    /// `fallback_spacing`: the spacing of the interior points of the open
+    /// loops' triangles, in element sizes.
+    pub fallback_spacing: f64,
 }
 
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
-        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0])
+        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 0.25, 1.5])
             .expect("the built-in host bounds are consistent")
     }
 }
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 8] = [
+    pub const NAMES: [&'static str; 10] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -219,13 +226,15 @@ impl HostBounds {
         "relation_inner_above",
         "relation_reach",
         "centre_search_below",
+        "fallback_take_back",
+        "fallback_spacing",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 8]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below] =
+    pub fn new(v: [f64; 10]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, fallback_take_back, fallback_spacing] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -236,6 +245,8 @@ impl HostBounds {
             (0.0, 180.0),
             (0.0, f64::MAX),
             (0.0, 90.0),
+            (0.0, f64::MAX),
+            (0.1, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -255,6 +266,8 @@ impl HostBounds {
             relation_inner_above,
             relation_reach,
             centre_search_below,
+            fallback_take_back,
+            fallback_spacing,
         })
     }
 }
@@ -290,7 +303,7 @@ mod tests {
 
     #[test]
     fn a_negative_reach_is_refused() {
-        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0];
+        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 0.25, 1.5];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();
         assert!(e.contains("relation_reach"), "{e}");

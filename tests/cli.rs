@@ -715,7 +715,11 @@ fn the_same_output_named_twice_is_refused_before_meshing() {
         let mut all = vec!["mesh", "tests/inputs/l-shape.json"];
         all.extend(&args);
         all.extend(kb);
-        assert_refused(&all, Path::new(same), "same.msh is given twice as an output");
+        assert_refused(
+            &all,
+            Path::new(same),
+            "same.msh is given twice as an output",
+        );
         assert!(temporaries_in(&dir).is_empty());
     }
 }
@@ -786,7 +790,12 @@ fn an_output_folder_that_is_missing_or_cannot_be_written_is_refused_before_meshi
     std::fs::write(&file, "").unwrap();
     let under_a_file = file.join("out.msh");
     assert_refused(
-        &["mesh", "tests/inputs/square.json", "-o", under_a_file.to_str().unwrap()],
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            under_a_file.to_str().unwrap(),
+        ],
         &under_a_file,
         "a-file is not a folder",
     );
@@ -794,12 +803,24 @@ fn an_output_folder_that_is_missing_or_cannot_be_written_is_refused_before_meshi
     if cfg!(target_os = "linux") {
         let sys = Path::new("/sys/freemesh-test.msh");
         assert_refused(
-            &["mesh", "tests/inputs/l-shape.json", "-o", sys.to_str().unwrap(), "--kb", "tests/kb/throws-on-a-reflex-corner.pl"],
+            &[
+                "mesh",
+                "tests/inputs/l-shape.json",
+                "-o",
+                sys.to_str().unwrap(),
+                "--kb",
+                "tests/kb/throws-on-a-reflex-corner.pl",
+            ],
             sys,
             "/sys/freemesh-test.msh: cannot write: ",
         );
         // the system's reason once, not repeated by an error chain
-        let err = stderr(&freemesh(&["mesh", "tests/inputs/square.json", "-o", sys.to_str().unwrap()]));
+        let err = stderr(&freemesh(&[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            sys.to_str().unwrap(),
+        ]));
         assert_eq!(err.matches("os error").count(), 1, "{err}");
     }
 }
@@ -808,7 +829,16 @@ fn an_output_folder_that_is_missing_or_cannot_be_written_is_refused_before_meshi
 fn max_size_below_size_is_refused() {
     let out = tmp("max-below.msh");
     assert_refused(
-        &["mesh", "tests/inputs/square.json", "-o", out.to_str().unwrap(), "--size", "0.5", "--max-size", "0.25"],
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "0.5",
+            "--max-size",
+            "0.25",
+        ],
         &out,
         "--max-size 0.25 is below --size 0.5",
     );
@@ -819,7 +849,14 @@ fn max_size_below_size_is_refused() {
     )
     .unwrap();
     assert_refused(
-        &["mesh", dom.to_str().unwrap(), "-o", out.to_str().unwrap(), "--size", "3"],
+        &[
+            "mesh",
+            dom.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "3",
+        ],
         &out,
         "the domain's max_size 2 is below --size 3",
     );
@@ -829,7 +866,12 @@ fn max_size_below_size_is_refused() {
 fn stem_is_replaced_with_one_input_too() {
     let dir = tmp_dir("one-stem");
     let pattern = dir.join("{stem}-x.json");
-    let o = freemesh(&["mesh", "tests/inputs/square.json", "-o", pattern.to_str().unwrap()]);
+    let o = freemesh(&[
+        "mesh",
+        "tests/inputs/square.json",
+        "-o",
+        pattern.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.join("square-x.json").exists());
     assert!(!pattern.exists(), "no file named {{stem}}-x.json");
@@ -851,10 +893,17 @@ fn a_failing_domain_of_several_names_its_file_once() {
     ]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
-    let line = err.lines().find(|l| l.contains("not valid JSON")).expect(&err);
+    let line = err
+        .lines()
+        .find(|l| l.contains("not valid JSON"))
+        .expect(&err);
     assert_eq!(line.matches("trunc.json").count(), 1, "{line}");
     // a fault that does not name the file gets its name first
-    std::fs::write(dir.join("trunc.json"), "{\"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}").unwrap();
+    std::fs::write(
+        dir.join("trunc.json"),
+        "{\"outer\": {\"points\": [[0,0],[1,0],[1,1]]}}",
+    )
+    .unwrap();
     let o = freemesh(&[
         "mesh",
         dir.join("good.json").to_str().unwrap(),
@@ -871,7 +920,12 @@ fn a_failing_domain_of_several_names_its_file_once() {
 fn the_summary_never_rounds_a_share_up_to_all() {
     // dam has a sharp input corner: an element or two stay outside [45, 135]
     let out = tmp("dam.json");
-    let o = freemesh(&["mesh", "../shared/bench/domains/dam.json", "-o", out.to_str().unwrap()]);
+    let o = freemesh(&[
+        "mesh",
+        "../shared/bench/domains/dam.json",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = stderr(&o);
     let q = freemesh(&["quality", out.to_str().unwrap(), "--json"]);
@@ -879,8 +933,12 @@ fn the_summary_never_rounds_a_share_up_to_all() {
     let outside = v["quality"]["outside_45_135"].as_u64().unwrap();
     assert!(outside > 0, "dam keeps a corner outside: {summary}");
     assert!(!summary.contains("100.0%"), "{summary}");
-    assert!(summary.contains(&format!("({outside} outside)")), "{summary}");
-    let text = String::from_utf8_lossy(&freemesh(&["quality", out.to_str().unwrap()]).stdout).into_owned();
+    assert!(
+        summary.contains(&format!("({outside} outside)")),
+        "{summary}"
+    );
+    let text =
+        String::from_utf8_lossy(&freemesh(&["quality", out.to_str().unwrap()]).stdout).into_owned();
     assert!(text.contains(&format!("({outside} outside)")), "{text}");
 }
 
@@ -916,7 +974,10 @@ fn a_binary_file_that_is_no_mesh_is_named_as_such() {
     let q = freemesh(&["quality", bad.to_str().unwrap()]);
     assert_eq!(q.status.code(), Some(1));
     let err = stderr(&q);
-    assert!(err.contains("binary.msh: not a text file, nor a binary MSH 4.1 file"), "{err}");
+    assert!(
+        err.contains("binary.msh: not a text file, nor a binary MSH 4.1 file"),
+        "{err}"
+    );
     assert!(!err.contains("UTF-8"), "{err}");
 }
 
@@ -976,7 +1037,11 @@ fn ctrl_c_while_writing_removes_the_temporaries() {
             }
         }
         let status = child.wait().unwrap();
-        assert!(temporaries_in(&dir).is_empty(), "left: {:?}", temporaries_in(&dir));
+        assert!(
+            temporaries_in(&dir).is_empty(),
+            "left: {:?}",
+            temporaries_in(&dir)
+        );
         if caught {
             assert_eq!(status.code(), Some(130), "attempt {attempt}");
             break;
@@ -997,7 +1062,9 @@ fn readme() -> String {
 /// or above.
 fn readme_section(heading: &str) -> String {
     let text = readme();
-    let start = text.find(heading).unwrap_or_else(|| panic!("README has no {heading}"));
+    let start = text
+        .find(heading)
+        .unwrap_or_else(|| panic!("README has no {heading}"));
     let level = heading.chars().take_while(|&c| c == '#').count();
     let rest = &text[start + heading.len()..];
     let end = rest
@@ -1023,7 +1090,12 @@ fn the_readmes_first_command_leaves_no_untracked_file() {
         .map(str::trim)
         .find(|l| l.starts_with("cargo run") && l.contains(" -- mesh "))
         .expect("a cargo run -- mesh command in the README");
-    let args: Vec<&str> = command.split(" -- ").nth(1).unwrap().split_whitespace().collect();
+    let args: Vec<&str> = command
+        .split(" -- ")
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .collect();
     let o = freemesh(&args);
     assert!(o.status.success(), "{command}: {}", stderr(&o));
     let outputs: Vec<&str> = args
@@ -1072,6 +1144,9 @@ fn every_field_of_the_trace_is_documented_in_the_readme() {
         .iter()
         .filter(|f| !docs.contains(&format!("`{f}`")))
         .collect();
-    assert!(missing.is_empty(), "trace fields not in the README: {missing:?}");
+    assert!(
+        missing.is_empty(),
+        "trace fields not in the README: {missing:?}"
+    );
     assert!(docs.contains("`-1`"), "the -1 node id is explained");
 }

@@ -112,7 +112,9 @@ fn readme_row_if_stale(
         q.max_size_jump,
         if within_bounds { "yes" } else { "no" }
     );
-    let row = readme.lines().find(|l| l.starts_with(&format!("| {name} |")));
+    let row = readme
+        .lines()
+        .find(|l| l.starts_with(&format!("| {name} |")));
     match row {
         Some(r) if r.starts_with(&measured) => None,
         Some(r) => Some(format!("README: {r}\nnow:    {measured}")),
@@ -157,7 +159,10 @@ fn the_blade_examples_figures_are_measured_again() {
             "| quads with every angle in [45°, 135°] | {:.1}% | {:.1}% |",
             b.pct_45_135, a.pct_45_135
         ),
-        format!("| largest taper | {:.2} | {:.2} |", b.max_taper, a.max_taper),
+        format!(
+            "| largest taper | {:.2} | {:.2} |",
+            b.max_taper, a.max_taper
+        ),
         format!(
             "| fallback splits | {} | {} |",
             before.stats.fallback_splits, after.stats.fallback_splits
@@ -168,10 +173,17 @@ fn the_blade_examples_figures_are_measured_again() {
             changes(&after.stats)
         ),
     ];
-    let stale: Vec<&String> = rows.iter().filter(|r| !example.contains(r.as_str())).collect();
+    let stale: Vec<&String> = rows
+        .iter()
+        .filter(|r| !example.contains(r.as_str()))
+        .collect();
     assert!(
         stale.is_empty(),
         "examples/kb/README.md should have these rows:\n{}",
-        stale.iter().map(|r| r.as_str()).collect::<Vec<_>>().join("\n")
+        stale
+            .iter()
+            .map(|r| r.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
     );
 }

@@ -6,5 +6,6 @@
 pub mod chords;
 pub mod rings;
 pub mod slits;
+pub mod stuck_loops;
 pub mod triangles;
 pub mod unmesh;

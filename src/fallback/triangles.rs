@@ -25,7 +25,7 @@ use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 /// meshes).
 #[derive(Debug, thiserror::Error)]
 #[error("the triangle fallback failed: {0}")]
-pub struct FallbackError(String);
+pub struct FallbackError(pub(crate) String);
 
 /// Meshes the discretised domain by triangles split into quads.
 ///
@@ -263,7 +263,7 @@ fn quad_convex(mesh: &Mesh, q: usize) -> bool {
 /// `quads`) to the point of a barycentric grid over the triangle that
 /// makes the three quads convex with the widest margin. False if none
 /// does (g is left where it was).
-fn place_centre(mesh: &mut Mesh, tri: [u32; 3], g: u32, quads: [usize; 3]) -> bool {
+pub(super) fn place_centre(mesh: &mut Mesh, tri: [u32; 3], g: u32, quads: [usize; 3]) -> bool {
     let corners = tri.map(|n| mesh.nodes[n as usize]);
     let original = mesh.nodes[g as usize];
     let margin = |mesh: &Mesh| {
@@ -293,7 +293,7 @@ fn place_centre(mesh: &mut Mesh, tri: [u32; 3], g: u32, quads: [usize; 3]) -> bo
 }
 
 /// The point of the chain's curves nearest to `p`.
-fn project_on_chain(chain: &crate::input::domain::Chain, p: DVec2) -> DVec2 {
+pub(super) fn project_on_chain(chain: &crate::input::domain::Chain, p: DVec2) -> DVec2 {
     chain
         .edges
         .iter()
@@ -308,7 +308,12 @@ fn project_on_chain(chain: &crate::input::domain::Chain, p: DVec2) -> DVec2 {
 
 /// Interior points on a triangular lattice of spacing `size` over the
 /// domain, each at least half a spacing from every boundary edge.
-fn lattice_points(nodes: &[DVec2], boundary: &[BoundaryEdge], loops: u32, size: f64) -> Vec<DVec2> {
+pub(super) fn lattice_points(
+    nodes: &[DVec2],
+    boundary: &[BoundaryEdge],
+    loops: u32,
+    size: f64,
+) -> Vec<DVec2> {
     let lo = nodes.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
     let hi = nodes.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
     // boundary edges bucketed on a grid of cell `size`, for the clearance
@@ -377,7 +382,7 @@ fn inside(p: DVec2, nodes: &[DVec2], boundary: &[BoundaryEdge], loops: u32) -> b
 /// The triangles inside the domain, counter-clockwise, as node ids: a
 /// flood fill from the outside that changes sides at every loop edge
 /// (inner lines are constraints too, but both their sides are inside).
-fn inside_triangles(
+pub(super) fn inside_triangles(
     cdt: &ConstrainedDelaunayTriangulation<Point2<f64>>,
     handle_node: &HashMap<FixedVertexHandle, u32>,
     boundary: &[BoundaryEdge],

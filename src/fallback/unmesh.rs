@@ -62,14 +62,9 @@ pub fn unmesh_layer(pm: &mut PartialMesh, l: u32) -> Option<Vec<Fv>> {
                 }
             }
         }
-        if pm
-            .front
-            .touched_loops()
-            .iter()
-            .any(|&t| {
-                pm.front.loop_len(t) % 2 == 1 || (pm.guard_loop_areas && pm.loop_area(t) <= 0.0)
-            })
-        {
+        if pm.front.touched_loops().iter().any(|&t| {
+            pm.front.loop_len(t) % 2 == 1 || (pm.guard_loop_areas && pm.loop_area(t) <= 0.0)
+        }) {
             pm.front.rollback();
             continue;
         }

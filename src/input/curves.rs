@@ -277,7 +277,8 @@ pub(crate) fn split_curve(c: Curve, p: DVec2) -> (Curve, Curve) {
 pub(crate) fn input_decimals<'a>(chains: impl Iterator<Item = &'a Chain>) -> usize {
     let decimals = |x: f64| {
         let text = x.to_string();
-        text.split_once('.').map_or(0, |(_, fraction)| fraction.len())
+        text.split_once('.')
+            .map_or(0, |(_, fraction)| fraction.len())
     };
     let mut most = 0;
     for e in chains.flat_map(|c| &c.edges) {
@@ -292,7 +293,13 @@ pub(crate) fn input_decimals<'a>(chains: impl Iterator<Item = &'a Chain>) -> usi
 
 /// Where two segments that are not disjoint meet: the point where they
 /// cross, or for a touch or an overlap an end of one that lies on the other.
-pub(crate) fn meeting_point(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2, rel: SegmentRelation) -> DVec2 {
+pub(crate) fn meeting_point(
+    p1: DVec2,
+    p2: DVec2,
+    q1: DVec2,
+    q2: DVec2,
+    rel: SegmentRelation,
+) -> DVec2 {
     let (dp, dq) = (p2 - p1, q2 - q1);
     let denominator = dp.perp_dot(dq);
     if rel == SegmentRelation::Cross && denominator != 0.0 {

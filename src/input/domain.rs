@@ -65,12 +65,11 @@ fn key_err(key: &str, message: impl Into<String>) -> DomainError {
     }
 }
 
+use super::curves::{
+    chain_vertices, input_decimals, line_end, meeting_point, point_text, set_line_end, split_curve,
+};
 pub use super::curves::{Chain, Curve, Edge};
 use super::keys::unknown_keys;
-use super::curves::{
-    chain_vertices, input_decimals, line_end, meeting_point, point_text, set_line_end,
-    split_curve,
-};
 
 /// A validated domain: the only ways to make one are the constructors,
 /// [`Domain::from_file`], [`Domain::from_json_str`] and

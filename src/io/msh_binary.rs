@@ -23,7 +23,11 @@ pub fn is_binary_msh(bytes: &[u8]) -> bool {
 /// The version, the binary flag and where the header line ends.
 fn header(bytes: &[u8]) -> Option<(String, bool, usize)> {
     let start = find(bytes, b"$MeshFormat", 0)? + b"$MeshFormat".len();
-    let line_start = start + bytes[start..].iter().take_while(|b| b.is_ascii_whitespace()).count();
+    let line_start = start
+        + bytes[start..]
+            .iter()
+            .take_while(|b| b.is_ascii_whitespace())
+            .count();
     let line_end = line_start + bytes[line_start..].iter().position(|&b| b == b'\n')?;
     let line = std::str::from_utf8(&bytes[line_start..line_end]).ok()?;
     let mut words = line.split_ascii_whitespace();
@@ -89,7 +93,10 @@ impl Reader<'_> {
         let n = self.size()?;
         let left = (self.bytes.len() - self.at) as u64;
         if n.saturating_mul(each as u64) > left {
-            return Err(format!("${}: a count of {n} runs past the file's end", self.section));
+            return Err(format!(
+                "${}: a count of {n} runs past the file's end",
+                self.section
+            ));
         }
         Ok(n as usize)
     }
@@ -161,8 +168,8 @@ pub fn read(bytes: &[u8]) -> Result<MshCells, String> {
             _ => body,
         };
         let end_tag = format!("$End{name}");
-        let end = find(bytes, end_tag.as_bytes(), end_at)
-            .ok_or(format!("${name} is not closed"))?;
+        let end =
+            find(bytes, end_tag.as_bytes(), end_at).ok_or(format!("${name} is not closed"))?;
         if matches!(name.as_str(), "Nodes" | "Elements")
             && bytes[end_at..end].iter().any(|b| !b.is_ascii_whitespace())
         {

@@ -11,7 +11,10 @@ pub(super) type DrawnGeometry = (Vec<DrawnEdge>, Vec<DrawnCircle>, Vec<String>);
 
 /// The edges and circles of a drawing's model space, and a warning for
 /// each kind of entity skipped.
-pub(super) fn drawn_geometry(drawing: &::dxf::Drawing, path: &str) -> Result<DrawnGeometry, DxfError> {
+pub(super) fn drawn_geometry(
+    drawing: &::dxf::Drawing,
+    path: &str,
+) -> Result<DrawnGeometry, DxfError> {
     use ::dxf::entities::EntityType;
     let mut edges = Vec::new();
     let mut circles = Vec::new();

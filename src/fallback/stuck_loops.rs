@@ -1,0 +1,496 @@
+//! The fallback for the loops the rules and the loop subdivision leave
+//! open: only those loops are meshed by triangles split into quads, and
+//! the elements the rules made stay.
+//!
+//! Splitting a triangle into three quads puts a node in the middle of
+//! each of its edges, so every edge of an open loop is halved. The rules'
+//! element on the other side of such an edge must be halved with it: it
+//! is split in two across the edge, which halves its opposite edge, and
+//! so on along the element's chord (the row of elements across from the
+//! edge) until the chord ends on the domain's boundary or comes back to
+//! an open loop. An element two chords cross is split in four. The
+//! halved elements are about half as wide as their neighbours: a size
+//! step of the square root of two, within the paper's smooth transition.
+
+use glam::DVec2;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use std::collections::HashMap;
+
+use super::triangles::{
+    inside_triangles, lattice_points, place_centre, project_on_chain, FallbackError,
+};
+use crate::input::domain::Domain;
+use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
+
+/// The mesh with its open loops closed, and what it took.
+pub struct LoopsClosed {
+    /// The whole mesh: the rules' elements (some split) and the loops'.
+    pub mesh: Mesh,
+    /// Elements made inside the open loops.
+    pub loop_elements: usize,
+    /// Rules' elements split to carry the halving along their chords.
+    pub split_elements: usize,
+    /// Rules' elements taken back (after a runaway).
+    pub taken_back: usize,
+}
+
+fn key(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+/// Meshes the open `loops` (node ids of `mesh`, in loop order, the open
+/// region on their left) by triangles split into quads, and halves the
+/// elements of `mesh` along the chords that leave the loops. `spacing` is
+/// the spacing of the interior points (a lattice triangle is split into
+/// three quads: 1.5 sizes gives quads of about two-thirds of the size,
+/// near the halved rows beside them). With `take_back` (after a runaway:
+/// the rules made ever smaller elements), the elements next to the open
+/// loops whose area is under `take_back`, and those next to them, are
+/// taken back first and meshed with the loops.
+pub fn close_open_loops(
+    mesh: &Mesh,
+    loops: &[Vec<u32>],
+    domain: &Domain,
+    spacing: f64,
+    take_back: Option<f64>,
+) -> Result<LoopsClosed, FallbackError> {
+    let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
+    let on_curve: HashMap<(u32, u32), u32> = mesh
+        .boundary
+        .iter()
+        .map(|e| (key(e.a, e.b), e.group))
+        .collect();
+    // The open region's edges, directed with the region on their left.
+    let mut directed: Vec<(u32, u32)> = Vec::new();
+    for l in loops {
+        for i in 0..l.len() {
+            directed.push((l[i], l[(i + 1) % l.len()]));
+        }
+    }
+    let mut mesh = mesh.clone();
+    let taken = match take_back {
+        Some(area) => take_back_small(&mut mesh, &mut directed, &on_curve, area),
+        None => 0,
+    };
+    let mesh = &mesh;
+    // The region's edges: an edge met once bounds the open region; met
+    // twice (both sides of a line, a slit) it lies inside it.
+    let mut loop_edges: Vec<(u32, u32)> = Vec::new();
+    let mut times: HashMap<(u32, u32), u32> = HashMap::new();
+    for &(a, b) in &directed {
+        let k = key(a, b);
+        let t = times.entry(k).or_insert(0);
+        if *t == 0 {
+            loop_edges.push(k);
+        }
+        *t += 1;
+    }
+    if loop_edges.is_empty() {
+        return Err(FallbackError("no open loop".into()));
+    }
+
+    // The halving, carried along the chords of the rules' elements.
+    let mut quads_of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for i in 0..4 {
+            quads_of
+                .entry(key(q[i], q[(i + 1) % 4]))
+                .or_default()
+                .push((qi, i));
+        }
+    }
+    let mut halved: Vec<(u32, u32)> = loop_edges.clone();
+    let mut is_halved: HashMap<(u32, u32), u32> = HashMap::new();
+    for &k in &loop_edges {
+        is_halved.insert(k, u32::MAX);
+    }
+    let mut next = 0;
+    while next < halved.len() {
+        let k = halved[next];
+        next += 1;
+        for &(qi, i) in quads_of.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
+            let q = mesh.quads[qi];
+            let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
+            if let std::collections::hash_map::Entry::Vacant(v) = is_halved.entry(opposite) {
+                v.insert(u32::MAX);
+                halved.push(opposite);
+            }
+        }
+    }
+    let mut out = mesh.clone();
+    for &k in &halved {
+        let m = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
+        let id = match on_curve.get(&k) {
+            Some(&g) => out.add_node(project_on_chain(chains[g as usize], m), NodeKind::Boundary),
+            None => out.add_node(m, NodeKind::Interior),
+        };
+        is_halved.insert(k, id);
+    }
+
+    // The rules' elements, split where their edges are halved.
+    let mid = |a: u32, b: u32| is_halved.get(&key(a, b)).copied();
+    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(mesh.quads.len() + 4 * halved.len());
+    let mut split_elements = 0;
+    for &q in &mesh.quads {
+        let [a, b, c, d] = q;
+        match (mid(a, b), mid(b, c)) {
+            (None, None) => quads.push(q),
+            (Some(mab), None) => {
+                let mcd = mid(c, d).ok_or_else(|| FallbackError("a chord broke off".into()))?;
+                quads.push([a, mab, mcd, d]);
+                quads.push([mab, b, c, mcd]);
+                split_elements += 1;
+            }
+            (None, Some(mbc)) => {
+                let mda = mid(d, a).ok_or_else(|| FallbackError("a chord broke off".into()))?;
+                quads.push([a, b, mbc, mda]);
+                quads.push([mda, mbc, c, d]);
+                split_elements += 1;
+            }
+            (Some(mab), Some(mbc)) => {
+                let (mcd, mda) = match (mid(c, d), mid(d, a)) {
+                    (Some(x), Some(y)) => (x, y),
+                    _ => return Err(FallbackError("a chord broke off".into())),
+                };
+                let centre = [mab, mbc, mcd, mda]
+                    .iter()
+                    .map(|&n| out.nodes[n as usize])
+                    .sum::<DVec2>()
+                    / 4.0;
+                let g = out.add_node(centre, NodeKind::Interior);
+                quads.push([a, mab, g, mda]);
+                quads.push([mab, b, mbc, g]);
+                quads.push([g, mbc, c, mcd]);
+                quads.push([mda, g, mcd, d]);
+                split_elements += 1;
+            }
+        }
+    }
+    out.quads = quads;
+    let rules_quads = out.quads.len();
+    pull_back_curved_midpoints(&mut out, &halved, &is_halved, &on_curve);
+
+    // The open region: its nodes in a compact numbering for the
+    // triangulation, its edges the constraints (group 0 bounds it,
+    // group 1 lies inside it).
+    let mut ids: Vec<u32> = Vec::new();
+    let mut compact: HashMap<u32, u32> = HashMap::new();
+    let mut region_edges: Vec<BoundaryEdge> = Vec::with_capacity(loop_edges.len());
+    for &(a, b) in &loop_edges {
+        let mut id = |n: u32| {
+            *compact.entry(n).or_insert_with(|| {
+                ids.push(n);
+                (ids.len() - 1) as u32
+            })
+        };
+        let (ca, cb) = (id(a), id(b));
+        region_edges.push(BoundaryEdge {
+            a: ca,
+            b: cb,
+            group: if times[&(a, b)] == 1 { 0 } else { 1 },
+            tag: None,
+        });
+    }
+    let mut points: Vec<DVec2> = ids.iter().map(|&n| out.nodes[n as usize]).collect();
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
+    let mut handle_node = HashMap::new();
+    let mut handles = Vec::with_capacity(points.len());
+    for (i, p) in points.iter().enumerate() {
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|e| FallbackError(format!("loop node: {e:?}")))?;
+        if handle_node.insert(h, i as u32).is_some() {
+            return Err(FallbackError(format!(
+                "two loop nodes at ({}, {})",
+                p.x, p.y
+            )));
+        }
+        handles.push(h);
+    }
+    for e in &region_edges {
+        if cdt
+            .try_add_constraint(handles[e.a as usize], handles[e.b as usize])
+            .len()
+            != 1
+        {
+            return Err(FallbackError("an open loop's edge crosses another".into()));
+        }
+    }
+    for p in lattice_points(&points, &region_edges, 1, spacing) {
+        let h = cdt
+            .insert(Point2::new(p.x, p.y))
+            .map_err(|e| FallbackError(format!("interior point: {e:?}")))?;
+        if let std::collections::hash_map::Entry::Vacant(v) = handle_node.entry(h) {
+            points.push(p);
+            v.insert((points.len() - 1) as u32);
+        }
+    }
+    let triangles = inside_triangles(&cdt, &handle_node, &region_edges, 1)?;
+    // the lattice points become mesh nodes
+    for &p in &points[ids.len()..] {
+        ids.push(out.add_node(p, NodeKind::Interior));
+    }
+
+    // Each triangle split into three quads; its edges' midpoints shared
+    // with the neighbours (on a loop edge, the halving's node).
+    let mut new_mid: HashMap<(u32, u32), u32> = HashMap::new();
+    for [a, b, c] in triangles {
+        let [a, b, c] = [a, b, c].map(|n| ids[n as usize]);
+        let mut m = |out: &mut Mesh, x: u32, y: u32| -> u32 {
+            let k = key(x, y);
+            match is_halved.get(&k) {
+                Some(&n) if times.contains_key(&k) => n,
+                _ => *new_mid.entry(k).or_insert_with(|| {
+                    let p = (out.nodes[x as usize] + out.nodes[y as usize]) / 2.0;
+                    out.add_node(p, NodeKind::Interior)
+                }),
+            }
+        };
+        let (mab, mbc, mca) = (m(&mut out, a, b), m(&mut out, b, c), m(&mut out, c, a));
+        let centre = [a, b, c, mab, mbc, mca]
+            .iter()
+            .map(|&n| out.nodes[n as usize])
+            .sum::<DVec2>()
+            / 6.0;
+        let g = out.add_node(centre, NodeKind::Interior);
+        let first = out.quads.len();
+        out.quads.push([a, mab, g, mca]);
+        out.quads.push([b, mbc, g, mab]);
+        out.quads.push([c, mca, g, mbc]);
+        let three = [first, first + 1, first + 2];
+        let convex = three
+            .iter()
+            .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)));
+        if !convex && !place_centre(&mut out, [a, b, c], g, three) {
+            return Err(FallbackError(format!(
+                "no centre makes the quads of the triangle at ({:.6}, {:.6}) convex",
+                centre.x, centre.y
+            )));
+        }
+    }
+    let loop_elements = out.quads.len() - rules_quads;
+
+    // the halved boundary edges, each now two
+    let mut boundary = Vec::with_capacity(out.boundary.len() + halved.len());
+    for e in &out.boundary {
+        match is_halved.get(&key(e.a, e.b)) {
+            Some(&m) => {
+                boundary.push(BoundaryEdge { b: m, ..*e });
+                boundary.push(BoundaryEdge { a: m, ..*e });
+            }
+            None => boundary.push(*e),
+        }
+    }
+    out.boundary = boundary;
+    Ok(LoopsClosed {
+        mesh: out,
+        loop_elements,
+        split_elements,
+        taken_back: taken,
+    })
+}
+
+/// Where a halving node projected onto a strongly curved boundary leaves
+/// one of its elements non-convex, the node is pulled back towards the
+/// segment's chord a step at a time (off its curve by less than the
+/// sagitta), as the last resort does.
+fn pull_back_curved_midpoints(
+    out: &mut Mesh,
+    halved: &[(u32, u32)],
+    is_halved: &HashMap<(u32, u32), u32>,
+    on_curve: &HashMap<(u32, u32), u32>,
+) {
+    let mut quads_at: HashMap<u32, Vec<usize>> = HashMap::new();
+    for (qi, q) in out.quads.iter().enumerate() {
+        for &n in q {
+            quads_at.entry(n).or_default().push(qi);
+        }
+    }
+    for k in halved.iter().filter(|k| on_curve.contains_key(k)) {
+        let m = is_halved[k];
+        let around = quads_at.get(&m).map(Vec::as_slice).unwrap_or(&[]);
+        let convex = |out: &Mesh| {
+            around
+                .iter()
+                .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)))
+        };
+        if convex(out) {
+            continue;
+        }
+        let chord = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
+        let curve = out.nodes[m as usize];
+        for step in 1..=10 {
+            let f = 1.0 - step as f64 / 10.0;
+            out.nodes[m as usize] = chord + (curve - chord) * f;
+            if convex(out) {
+                break;
+            }
+        }
+    }
+}
+
+/// Takes back the elements reached from the open region through elements
+/// under `area` (each element next to the region, or next to one taken,
+/// is taken if it is that small): the region grows by them, its directed
+/// edges updated (an edge between the region and a taken element is no
+/// longer a boundary of it, except on an input line). Returns how many.
+fn take_back_small(
+    mesh: &mut Mesh,
+    directed: &mut Vec<(u32, u32)>,
+    on_curve: &HashMap<(u32, u32), u32>,
+    area: f64,
+) -> usize {
+    let mut owner: HashMap<(u32, u32), usize> = HashMap::new();
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for i in 0..4 {
+            owner.insert((q[i], q[(i + 1) % 4]), qi);
+        }
+    }
+    let small = |mesh: &Mesh, q: usize| {
+        let p = mesh.quad_points(q);
+        let a = 0.5 * ((p[2] - p[0]).perp_dot(p[3] - p[1]));
+        a < area
+    };
+    let mut taken = vec![false; mesh.quads.len()];
+    let mut stack: Vec<usize> = Vec::new();
+    let reach = |edges: &[(u32, u32)], taken: &mut Vec<bool>, stack: &mut Vec<usize>| {
+        for &(a, b) in edges {
+            if on_curve.contains_key(&key(a, b)) {
+                continue;
+            }
+            // the element across: it has the edge the other way round
+            if let Some(&q) = owner.get(&(b, a)) {
+                if !taken[q] && small(mesh, q) {
+                    taken[q] = true;
+                    stack.push(q);
+                }
+            }
+        }
+    };
+    reach(directed, &mut taken, &mut stack);
+    while let Some(q) = stack.pop() {
+        let n = mesh.quads[q];
+        let edges: Vec<(u32, u32)> = (0..4).map(|i| (n[i], n[(i + 1) % 4])).collect();
+        reach(&edges, &mut taken, &mut stack);
+    }
+    let count = taken.iter().filter(|&&t| t).count();
+    if count == 0 {
+        return 0;
+    }
+    // the region's edges: the loops' and the taken elements', a pair of
+    // opposite edges cancelled where the region meets itself (but not on
+    // an input line, which stays a constraint inside it)
+    let mut all: Vec<(u32, u32)> = std::mem::take(directed);
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        if taken[qi] {
+            all.extend((0..4).map(|i| (q[i], q[(i + 1) % 4])));
+        }
+    }
+    let mut count_of: HashMap<(u32, u32), usize> = HashMap::new();
+    for &e in &all {
+        *count_of.entry(e).or_insert(0) += 1;
+    }
+    for &(a, b) in &all {
+        let cancels =
+            !on_curve.contains_key(&key(a, b)) && count_of.get(&(b, a)).copied().unwrap_or(0) > 0;
+        if !cancels {
+            directed.push((a, b));
+        }
+    }
+    let mut i = 0;
+    mesh.quads.retain(|_| {
+        i += 1;
+        !taken[i - 1]
+    });
+    count
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::boundary::discretise;
+
+    /// A 3 by 3 square meshed by the rules but for its middle cell.
+    fn ring_round_open_cell() -> (Mesh, Domain, Vec<u32>) {
+        let domain = Domain::from_json_str(
+            r#"{"name": "sq", "size": 1, "outer": {"points": [[0,0],[3,0],[3,3],[0,3]]}}"#,
+        )
+        .unwrap();
+        let mut mesh = discretise(&domain, 1.0).unwrap().mesh;
+        assert_eq!(mesh.nodes.len(), 12);
+        let mut at = |x: f64, y: f64| -> u32 {
+            let p = DVec2::new(x, y);
+            match mesh.nodes.iter().position(|&n| (n - p).length() < 1e-9) {
+                Some(i) => i as u32,
+                None => mesh.add_node(p, NodeKind::Interior),
+            }
+        };
+        let mut quads = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                let (x, y) = (i as f64, j as f64);
+                let q = [
+                    at(x, y),
+                    at(x + 1.0, y),
+                    at(x + 1.0, y + 1.0),
+                    at(x, y + 1.0),
+                ];
+                if (i, j) != (1, 1) {
+                    quads.push(q);
+                }
+            }
+        }
+        let open = vec![at(1.0, 1.0), at(2.0, 1.0), at(2.0, 2.0), at(1.0, 2.0)];
+        mesh.quads = quads;
+        (mesh, domain, open)
+    }
+
+    #[test]
+    fn an_open_cell_is_closed_and_its_halving_carried_to_the_boundary() {
+        let (mesh, domain, open) = ring_round_open_cell();
+        let closed = close_open_loops(&mesh, &[open], &domain, 1.0, None).unwrap();
+        // the four rows across the cell's edges split; the corners not
+        assert_eq!(closed.split_elements, 4);
+        // the cell: two triangles, three quads each
+        assert_eq!(closed.loop_elements, 6);
+        let m = &closed.mesh;
+        assert_eq!(m.quads.len(), 4 + 8 + 6);
+        // four boundary segments halved, each now two
+        assert_eq!(m.boundary.len(), 16);
+        let area: f64 = (0..m.quads.len())
+            .map(|q| {
+                let p = m.quad_points(q);
+                0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
+            })
+            .sum();
+        assert!((area - 9.0).abs() < 1e-9, "area {area}");
+        assert!((0..m.quads.len()).all(|q| crate::geometry::quad_is_convex(m.quad_points(q))));
+        // conforming: every element edge has at most one element each side
+        let mut sides: HashMap<(u32, u32), usize> = HashMap::new();
+        for q in &m.quads {
+            for i in 0..4 {
+                *sides.entry((q[i], q[(i + 1) % 4])).or_insert(0) += 1;
+            }
+        }
+        assert!(sides.values().all(|&n| n == 1));
+        let boundary: usize = sides
+            .keys()
+            .filter(|&&(a, b)| !sides.contains_key(&(b, a)))
+            .count();
+        assert_eq!(boundary, 16, "the outline's edges only");
+    }
+
+    #[test]
+    fn small_elements_by_the_open_loop_are_taken_back() {
+        let (mesh, domain, open) = ring_round_open_cell();
+        // every element is 1 by 1: under an area of 1.5 all are taken
+        let closed = close_open_loops(&mesh, &[open.clone()], &domain, 1.0, Some(1.5)).unwrap();
+        assert_eq!(closed.taken_back, 8);
+        assert_eq!(closed.split_elements, 0);
+        assert_eq!(closed.mesh.quads.len(), closed.loop_elements);
+        // under an area of 0.5 none is
+        let kept = close_open_loops(&mesh, &[open], &domain, 1.0, Some(0.5)).unwrap();
+        assert_eq!(kept.taken_back, 0);
+        assert_eq!(kept.split_elements, 4);
+    }
+}
