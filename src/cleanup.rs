@@ -8,7 +8,12 @@
 //! - flip: two elements sharing an edge make a hexagon; it is split into
 //!   two elements along one of its other two diagonals;
 //! - collapse: an element is removed by joining two opposite corners
-//!   (the free one moves onto the other), its neighbours closing the gap.
+//!   (the free one moves onto the other), its neighbours closing the gap;
+//! - merge: the elements round a few free nodes, when their outline is a
+//!   loop of four or six nodes, are replaced by one element or two (what
+//!   a ring closing a small loop leaves is such a patch: once smoothing
+//!   made the loop good, its small middle element and the slanted ones
+//!   round it give the worst corners and size jumps of the mesh).
 //!
 //! Each element with a corner outside the window, worst first, is tried
 //! with every flip of its edges and every collapse; the region round each
@@ -52,7 +57,7 @@ const NEAR_RINGS: usize = 4;
 const SIDE_BY_SIDE_FROM: usize = 20_000;
 
 /// The operations tried on every bad element.
-const OPS: [Op; 8] = [
+const OPS: [Op; 9] = [
     Op::Flip(0),
     Op::Flip(1),
     Op::Flip(2),
@@ -61,6 +66,7 @@ const OPS: [Op; 8] = [
     Op::Collapse(1),
     Op::Collapse(2),
     Op::Collapse(3),
+    Op::Merge,
 ];
 
 /// Cleans up the elements with a corner outside the window of `bounds`
@@ -225,6 +231,8 @@ fn record(
     match done {
         Change::Flip { .. } => stats.flips += 1,
         Change::Collapse { .. } => stats.collapses += 1,
+        // the elements that go count as collapsed
+        Change::Merge { gone, .. } => stats.collapses += gone.len(),
     }
     let nodes = done.nodes(w);
     touched.extend(&nodes);
@@ -289,8 +297,10 @@ fn judge_change<M, K>(
 ) -> Option<(K, Vec<(u32, DVec2)>)> {
     let region = c.region(w);
     let mut after_region = region.clone();
-    if let Change::Collapse { q, .. } = c {
-        after_region.retain(|r| r != q);
+    match c {
+        Change::Collapse { q, .. } => after_region.retain(|r| r != q),
+        Change::Merge { gone, .. } => after_region.retain(|r| !gone.contains(r)),
+        Change::Flip { .. } => {}
     }
     let saved = w.snapshot(&region);
     let before = measure(w, &region);

@@ -18,6 +18,10 @@ pub enum Op {
     Flip(u8),
     /// Join corner `k` onto the opposite corner k+2.
     Collapse(u8),
+    /// Mesh a small patch round the element anew with fewer elements
+    /// (see `Working::patches_of`): what a ring closing a small loop
+    /// leaves, once smoothing made the loop good, is one element or two.
+    Merge,
 }
 
 pub(crate) type Worst = (f64, f64);
@@ -237,6 +241,109 @@ impl Working<'_> {
         }
         Some((changed, kept, to))
     }
+
+    /// The small patches round element q that may be meshed anew with
+    /// fewer elements: the elements round a few free nodes (a corner of
+    /// q, the two ends of an edge of q, the four corners of q, those of q
+    /// and a neighbour, or the same of a neighbour of q), when
+    /// their outline is one loop of four or six other nodes. What a ring
+    /// closing a small loop leaves (a middle element, or two, in a ring)
+    /// is such a patch. Each: the patch's elements and its outline,
+    /// counter-clockwise.
+    pub(crate) fn patches_of(&self, q: u32) -> Vec<(Vec<u32>, Vec<u32>)> {
+        let mut seeds: Vec<u32> = vec![q];
+        seeds.extend((0..4).filter_map(|k| self.across(q, k).map(|(o, _)| o)));
+        let mut sets: Vec<Vec<u32>> = Vec::new();
+        for &s in &seeds {
+            let quad = self.mesh.quads[s as usize];
+            for i in 0..4 {
+                sets.push(vec![quad[i]]);
+                sets.push(vec![quad[i], quad[(i + 1) % 4]]);
+            }
+            sets.push(quad.to_vec());
+            for k in 0..4 {
+                if let Some((o, _)) = self.across(s, k) {
+                    let mut set: Vec<u32> = quad.to_vec();
+                    set.extend(self.mesh.quads[o as usize]);
+                    sets.push(set);
+                }
+            }
+        }
+        let mut found: Vec<(Vec<u32>, Vec<u32>)> = Vec::new();
+        for mut set in sets {
+            set.sort_unstable();
+            set.dedup();
+            if let Some(p) = self.patch(&set) {
+                if !found.iter().any(|f| f.0 == p.0) {
+                    found.push(p);
+                }
+            }
+        }
+        found
+    }
+
+    /// The elements round free nodes `inner` (sorted) and their outline,
+    /// if it is one loop of four or six nodes not among them and every
+    /// edge inside is free.
+    fn patch(&self, inner: &[u32]) -> Option<(Vec<u32>, Vec<u32>)> {
+        if inner
+            .iter()
+            .any(|&n| self.mesh.kinds[n as usize] != NodeKind::Interior)
+        {
+            return None;
+        }
+        let mut qs: Vec<u32> = inner
+            .iter()
+            .flat_map(|&n| self.around[n as usize].iter().copied())
+            .collect();
+        qs.sort_unstable();
+        qs.dedup();
+        if qs.len() > 12 {
+            return None;
+        }
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for &o in &qs {
+            let quad = self.mesh.quads[o as usize];
+            for i in 0..4 {
+                edges.push((quad[i], quad[(i + 1) % 4]));
+            }
+        }
+        let mut outline: Vec<(u32, u32)> = Vec::new();
+        for &(a, b) in &edges {
+            if edges.contains(&(b, a)) {
+                if !self.edge_free(a, b) {
+                    return None;
+                }
+            } else {
+                outline.push((a, b));
+            }
+        }
+        let k = outline.len();
+        if k != 4 && k != 6 {
+            return None;
+        }
+        let mut lp = vec![outline[0].0];
+        while lp.len() < k {
+            let last = *lp.last()?;
+            let next = outline.iter().find(|e| e.0 == last)?.1;
+            lp.push(next);
+        }
+        let mut seen = lp.clone();
+        seen.sort_unstable();
+        seen.dedup();
+        let closes = outline.iter().any(|&e| e == (lp[k - 1], lp[0]));
+        if seen.len() < k || !closes || lp.iter().any(|n| inner.binary_search(n).is_ok()) {
+            return None;
+        }
+        // every node of the patch is inside or on the outline
+        let all_placed = qs.iter().all(|&o| {
+            self.mesh.quads[o as usize]
+                .iter()
+                .all(|n| inner.binary_search(n).is_ok() || lp.contains(n))
+        });
+        // fewer elements than now
+        (all_placed && qs.len() > (k - 2) / 2).then_some((qs, lp))
+    }
 }
 
 /// A change the clean-up may make, with what undoes it.
@@ -258,6 +365,12 @@ pub(crate) enum Change {
         to: DVec2,
         changed: Vec<(u32, [u32; 4], [u32; 4])>,
     },
+    /// A patch meshed anew with fewer elements: elements `kept` get new
+    /// nodes (old, new), the others (`gone`) go.
+    Merge {
+        kept: Vec<(u32, [u32; 4], [u32; 4])>,
+        gone: Vec<u32>,
+    },
 }
 
 impl Change {
@@ -266,6 +379,7 @@ impl Change {
         match self {
             Change::Flip { q, o, .. } => vec![*q, *o],
             Change::Collapse { changed, .. } => changed.iter().map(|c| c.0).collect(),
+            Change::Merge { kept, .. } => kept.iter().map(|k| k.0).collect(),
         }
     }
 
@@ -274,6 +388,11 @@ impl Change {
         match self {
             Change::Flip { q, o, .. } => w.region(&[*q, *o]),
             Change::Collapse { q, .. } => w.region(&[*q]),
+            Change::Merge { kept, gone } => {
+                let mut qs = gone.clone();
+                qs.extend(kept.iter().map(|k| k.0));
+                w.region(&qs)
+            }
         }
     }
 
@@ -295,6 +414,14 @@ impl Change {
                     w.set_quad(o, new);
                 }
                 w.mesh.nodes[*kept as usize] = *to;
+            }
+            Change::Merge { kept, gone } => {
+                for &g in gone {
+                    w.remove_quad(g);
+                }
+                for &(q, _, new) in kept {
+                    w.set_quad(q, new);
+                }
             }
         }
     }
@@ -322,6 +449,17 @@ impl Change {
                     w.around[n as usize].push(*q);
                 }
             }
+            Change::Merge { kept, gone } => {
+                for &(q, old, _) in kept {
+                    w.set_quad(q, old);
+                }
+                for &g in gone {
+                    w.alive[g as usize] = true;
+                    for n in w.mesh.quads[g as usize] {
+                        w.around[n as usize].push(g);
+                    }
+                }
+            }
         }
     }
 
@@ -331,6 +469,12 @@ impl Change {
             Change::Flip { new, .. } => new.concat(),
             Change::Collapse { kept, .. } => w.around[*kept as usize]
                 .iter()
+                .flat_map(|&o| w.mesh.quads[o as usize])
+                .collect(),
+            Change::Merge { kept, .. } => kept
+                .iter()
+                .flat_map(|k| k.2)
+                .flat_map(|n| w.around[n as usize].iter())
                 .flat_map(|&o| w.mesh.quads[o as usize])
                 .collect(),
         };
@@ -368,6 +512,34 @@ pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
             }],
             None => Vec::new(),
         },
+        Op::Merge => {
+            let mut out = Vec::new();
+            for (qs, lp) in w.patches_of(q) {
+                let k = lp.len();
+                // one element over a loop of four; over six, two, split
+                // along each of the three diagonals in turn
+                let splits: Vec<Vec<[u32; 4]>> = if k == 4 {
+                    vec![vec![[lp[0], lp[1], lp[2], lp[3]]]]
+                } else {
+                    (0..3)
+                        .map(|d| {
+                            let i = |x: usize| lp[(d + x) % 6];
+                            vec![[i(0), i(1), i(2), i(3)], [i(3), i(4), i(5), i(0)]]
+                        })
+                        .collect()
+                };
+                for new in splits {
+                    let gone = qs[new.len()..].to_vec();
+                    let kept = qs
+                        .iter()
+                        .zip(new)
+                        .map(|(&o, n)| (o, w.mesh.quads[o as usize], n))
+                        .collect();
+                    out.push(Change::Merge { kept, gone });
+                }
+            }
+            out
+        }
     }
 }
 
