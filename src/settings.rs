@@ -198,19 +198,24 @@ pub struct HostBounds {
     /// whose elements have a corner closer than this to 0 or 180 degrees
     /// is moved to the best place of a search.
     pub centre_search_below: f64,
+    /// `tip_corner`: a front corner sharper than this (degrees) is a tip,
+    /// taken whole by one element; the validity check lets that element's
+    /// corner there be as sharp as the tip and its sides across the tip
+    /// as short as the tip's wedge makes them.
+    pub tip_corner: f64,
 }
 
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
-        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0])
+        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0])
             .expect("the built-in host bounds are consistent")
     }
 }
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 8] = [
+    pub const NAMES: [&'static str; 9] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -219,13 +224,14 @@ impl HostBounds {
         "relation_inner_above",
         "relation_reach",
         "centre_search_below",
+        "tip_corner",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 8]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below] =
+    pub fn new(v: [f64; 9]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -235,6 +241,7 @@ impl HostBounds {
             (0.0, 180.0),
             (0.0, 180.0),
             (0.0, f64::MAX),
+            (0.0, 90.0),
             (0.0, 90.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
@@ -255,6 +262,7 @@ impl HostBounds {
             relation_inner_above,
             relation_reach,
             centre_search_below,
+            tip_corner,
         })
     }
 }
@@ -290,7 +298,7 @@ mod tests {
 
     #[test]
     fn a_negative_reach_is_refused() {
-        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0];
+        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();
         assert!(e.contains("relation_reach"), "{e}");

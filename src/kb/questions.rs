@@ -34,7 +34,7 @@ impl KnowledgeBase {
             answer: why,
             expected: "a usable set of element bounds".into(),
         })?;
-        let mut host = [0.0; 8];
+        let mut host = [0.0; 9];
         for (v, name) in host.iter_mut().zip(HostBounds::NAMES) {
             *v = self.bound(name)?;
         }
