@@ -148,7 +148,7 @@ fn rounds(
                 candidates,
                 |w, changed| {
                     let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
-                    sine_worst_around(w.mesh, &pairs)
+                    sine_worst_around(w.mesh, &pairs, &w.bounds)
                 },
                 |w, region| w.worst_of(region),
                 |before, after| clearly_better(after, before).then_some(after),

@@ -134,13 +134,14 @@ impl Working<'_> {
                     continue;
                 }
                 let pairs = self.around_pairs(n);
-                let start = sine_worst_around(self.mesh, &pairs);
+                let bounds = self.bounds;
+                let start = sine_worst_around(self.mesh, &pairs, &bounds);
                 let best = compass_search_steps(
                     self.mesh,
                     n as usize,
                     &pairs,
                     start,
-                    |m, best| sine_worst_around_under(m, &pairs, best),
+                    |m, best| sine_worst_around_under(m, &pairs, best, &bounds),
                     |w, b| w < b,
                     COMPASS_STEPS,
                 );
