@@ -62,7 +62,7 @@ violation(remaining_corner(N, Deg), small_remaining(N)) :-
 % Rule corrects Action, which commits Violation, into NewAction.
 % ?- redesign_rule(R, ctx(180, 180, 180, 180, 180, 1, 1), a2(90, 90),
 %                  near_boundary(n3), A).
-%    R = rd6, A = a2(81.0, 81.0).
+%    R = rd6, A = a2(81.0, 81.0) ;  false.
 
 % A new corner on top of a front node: the fronts meet, use the node.
 redesign_rule(rd_merge, _, A, near_node(C), merge(C, A)).
