@@ -138,9 +138,20 @@ fn badness_and_sine_but(
 /// (the corner farthest from a right angle has the smallest sine), for
 /// a fraction of its cost.
 pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
+    sine_worst_around_of(mesh, around, Some(bounds))
+}
+
+/// `sine_worst_around` with every corner counted, fixed tips too (see
+/// `worst_around_every_corner`).
+pub(crate) fn sine_worst_around_every_corner(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
+    sine_worst_around_of(mesh, around, None)
+}
+
+fn sine_worst_around_of(mesh: &Mesh, around: &[(u32, u8)], tips: Option<&ElementBounds>) -> f64 {
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        match convex_sine_of(mesh, q as usize, bounds) {
+        let skip = tips.map_or(NO_TIPS, |b| fixed_tips(mesh, q as usize, b));
+        match convex_sine_but(mesh.quad_points(q as usize), skip) {
             Some(s) => min_sin = min_sin.min(s),
             None => return f64::INFINITY,
         }
@@ -180,10 +191,34 @@ pub(crate) fn worst_around(
     around: &[(u32, u8)],
     bounds: &ElementBounds,
 ) -> (f64, f64) {
+    worst_around_of(mesh, around, bounds, true)
+}
+
+/// `worst_around` with every corner counted, fixed tips too: for
+/// comparing elements before and after a change of topology (a flip or a
+/// collapse makes and unmakes corners, fixed ones too).
+pub(crate) fn worst_around_every_corner(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+) -> (f64, f64) {
+    worst_around_of(mesh, around, bounds, false)
+}
+
+fn worst_around_of(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+    leave_out_tips: bool,
+) -> (f64, f64) {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let skip = fixed_tips(mesh, q as usize, bounds);
+        let skip = if leave_out_tips {
+            fixed_tips(mesh, q as usize, bounds)
+        } else {
+            NO_TIPS
+        };
         let Some((b, s)) = badness_and_sine_but(mesh.quad_points(q as usize), bounds, skip) else {
             return (f64::INFINITY, f64::INFINITY);
         };

@@ -3,7 +3,10 @@
 //! [4, 176] degrees (the KB's `bound(valid_corner, 4)`, as each number
 //! here), no edge a sliver, no front edge crossing it, no
 //! front node inside it and, for a designed element, no new corner or
-//! edge so close to the front that a sliver is left between them.
+//! edge so close to the front that a sliver is left between them. An
+//! element that takes a tip (a front corner below `bound(tip_corner, _)`)
+//! whole may have its corner there as sharp as the tip, and its sides
+//! across the tip as short as the tip's wedge makes them.
 //! Orientation and crossing tests use robust predicates (geometry.rs).
 
 use glam::DVec2;
