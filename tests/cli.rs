@@ -722,11 +722,11 @@ fn the_same_output_named_twice_is_refused_before_meshing() {
 
 #[test]
 fn the_binary_draws_where_the_rules_stopped_when_a_developer_asks() {
-    let out = tmp("slot.msh");
-    let svg = tmp("slot-stopped.svg");
-    let trace = tmp("slot.jsonl");
+    let out = tmp("spike.msh");
+    let svg = tmp("spike-stopped.svg");
+    let trace = tmp("spike.jsonl");
     let o = Command::new(env!("CARGO_BIN_EXE_freemesh"))
-        .args(["mesh", "tests/stuck/slot.json", "-o", out.to_str().unwrap()])
+        .args(["mesh", "tests/stuck/spike.json", "-o", out.to_str().unwrap()])
         .args(["--trace", trace.to_str().unwrap()])
         .env("FREEMESH_DEBUG_SVG", &svg)
         .output()

@@ -6,7 +6,7 @@ use freemesh::{mesh_domain, Domain, Flow, KnowledgeBase, Options, Repl};
 
 /// A rounded slot round a tiny hole (random domain 243 of the long run):
 /// the rules stop on it, the triangle fallback meshes it.
-const STUCK: &str = "tests/stuck/slot.json";
+const STUCK: &str = "tests/stuck/spike.json";
 
 #[test]
 fn the_repls_run_finishes_a_stuck_domain_as_mesh_does() {
