@@ -18,6 +18,8 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
 ```
 ?- feature_action(b2, ctx(180, 180, 90, 180, 180, 1, 1), A).
    A = a2(90, 90).
+?- context_design(ctx(182, 182, 0, 180, 180, 1, 1), F, A).
+   F = tip, A = a2(135.0, 135.0).
 ?- context_design(ctx(180, 180, 180, 180, 180, 1, 1), F, A).
    F = b1, A = a1(90.0, 90.0, 1.0, 1.0).
 ```
@@ -45,6 +47,25 @@ feature_action(b2, ctx(_, _, T1, _, _, _, _), a2(Phi, Phi)) :-
     Phi is 180 - T1.
 % a3 for b3: link N5 (the paper's N3) and N4.
 feature_action(b3, _, a3).
+% a2 for a tip: the element takes the tip N1 whole. It is the triangle
+% N1 N2 N4 (the tip and its two front neighbours) with a right-angled cap
+% over N2N4: its corners at N2 and N4 are the triangle's there, B2 and
+% B4, each opened by at most 45 deg (less where that would pass U_c), so
+% that its fourth corner, at N3, is a right angle when it can be. For a
+% tip with equal sides it is a kite, U_c - theta1/2 at N2 and N4 (down
+% to a cusp, theta1 = 0: 135, 90, 135); with unequal sides (L5, the side
+% |N4N1| over |N1N2|) it leans to the longer one, where an equal kite
+% would not close at all. The parallelogram of b2 would repeat the tip
+% at N3 and put 180 - theta1 at N2 and N4; a right trapezoid (90 at N2
+% and N4) would put 180 - theta1 at N3. Among elements in the tip's
+% wedge the kite also has the least taper (its sides at N3 are the
+% longest a corner of at most U_c at N2 and N4 allows).
+feature_action(tip, ctx(_, _, T1, _, _, L5, _), a2(Phi2, Phi4)) :-
+    tip_triangle_(T1, L5, B2, B4),
+    tip_cap_(B2, G2),
+    tip_cap_(B4, G4),
+    Phi2 is B2 + G2,
+    Phi4 is B4 + G4.
 % a4 for b4: N3 at the centre of the block.
 feature_action(b4, _, a4).
 % a5 for b5: phi4 = pi - theta1, phi2 = theta5/(theta1 + theta5) * theta2,
@@ -52,6 +73,38 @@ feature_action(b4, _, a4).
 feature_action(b5, ctx(_, _, T1, T2, T5, _, _), a2(Phi2, Phi4)) :-
     Phi4 is 180 - T1,
     Phi2 is min(150, max(30, T5 / (T1 + T5) * T2)).
+
+% The corners B2, B4 at N2 and N4 of the triangle N1 N2 N4 with sides
+% |N1N2| = 1, |N1N4| = L5 and the angle T1 between them (law of
+% cosines); an isosceles one where the tip is too sharp for its corners
+% to be told (a cusp: theta1 rounds to 0) or N2N4 too short.
+tip_triangle_(T1, L5, B2, B4) :-
+    R is T1 * pi / 180,
+    D is sqrt(max(0, 1 + L5 * L5 - 2 * L5 * cos(R))),
+    (   ( T1 < 1 ; D < 1.0e-9 ) ->
+        B2 is 90 - T1 / 2
+    ;   C is max(-1, min(1, (1 + D * D - L5 * L5) / (2 * D))),
+        B2 is acos(C) * 180 / pi
+    ),
+    B4 is 180 - T1 - B2.
+
+% How far the cap opens a triangle corner B: 45 deg, less if B + 45
+% would pass U_c; where B is past U_c already, half the way to straight
+% (the element stays convex).
+tip_cap_(B, G) :-
+    bound(upper_corner, U),
+    (   B < U -> G is min(45, U - B)
+    ;   G is (180 - B) / 2
+    ).
+
+% The corners phi2 = phi4 of the element a2 stands over a corner N1 of
+% theta1: the parallelogram's pi - theta1 for a corner, the kite's
+% U_c - theta1/2 for a tip (the redesign rules that turn a3 into a2 use
+% it too).
+corner_a2_(T1, Phi) :-
+    (   tip_(T1) -> bound(upper_corner, U), Phi is U - T1 / 2
+    ;   Phi is 180 - T1
+    ).
 
 corner_share_(Theta, Phi) :-
     bound(reflex_split, R),

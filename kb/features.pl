@@ -19,6 +19,8 @@ right end of an edge is found as well.
 ```
 ?- context_feature(ctx(90, 180, 90, 180, 90, 1, 1), F).
    F = b4 ;  F = b5 ;  F = b2 ;  false.
+?- context_feature(ctx(180, 180, 5, 180, 180, 1, 1), F).
+   F = tip ;  false.
 ?- feature(b1, ctx(180, 180, 180, 180, 180, 1, 1)).
    true.
 ```
@@ -37,25 +39,42 @@ feature(b1, ctx(_, _, T1, T2, _, _, _)) :-
     bound(upper_corner, U),
     T1 >= U, T2 >= U.
 % b2: a corner at N1 between two open nodes, Fig. 8(b). The scan reads
-% theta2, theta4 >= 180; see bound(b2_side, _).
+% theta2, theta4 >= 180; see bound(b2_side, _). N1 is a corner, not a
+% tip (below): a2's parallelogram repeats theta1 at N3 and puts
+% 180 - theta1 at N2 and N4, above U_c once theta1 is below the tip bound.
 feature(b2, ctx(_, T4, T1, T2, _, _, _)) :-
     bound(upper_corner, U), bound(b2_side, S),
-    T1 =< U, T2 >= S, T4 >= S.
+    not_tip_(T1), T1 =< U, T2 >= S, T4 >= S.
 % b3: both ends are corners, Fig. 8(c).
 feature(b3, ctx(_, _, T1, T2, _, _, _)) :-
     bound(upper_corner, U),
     T1 =< U, T2 =< U.
 % b4: corners at N7, N1, N5 with open nodes N4, N2 between them: a
-% corner block two elements wide each way, Fig. 9(a).
+% corner block two elements wide each way, Fig. 9(a). N1 is a corner,
+% not a tip: a tip cannot be a corner of a block of four.
 feature(b4, ctx(T7, T4, T1, T2, T5, _, _)) :-
     bound(upper_corner, U),
-    T1 =< U, open_(U, T2), T5 =< U, open_(U, T4), T7 =< U.
+    not_tip_(T1), T1 =< U, open_(U, T2), T5 =< U, open_(U, T4), T7 =< U.
 % b5: corners at N1 and N5 with one open node N2 between, Fig. 9(b).
+% N1 is a corner, not a tip: a5's phi4 = pi - theta1 would leave N4 an
+% element corner above U_c (and reach 180 at a cusp).
 feature(b5, ctx(_, _, T1, T2, T5, _, _)) :-
     bound(upper_corner, U),
-    T1 =< U, open_(U, T2), T5 =< U.
+    not_tip_(T1), T1 =< U, open_(U, T2), T5 =< U.
+% tip: a corner sharper than the tip bound (a spike of the domain, down
+% to a cusp of 0 deg where a curve leaves a corner tangent to the other
+% side) between two open nodes: Fig. 8(b)'s picture with N1 too sharp to
+% share and too sharp for a parallelogram. One element takes the tip
+% whole; see bound(tip_corner, _) and the action in design.pl.
+feature(tip, ctx(_, T4, T1, T2, _, _, _)) :-
+    bound(b2_side, S),
+    tip_(T1), T2 >= S, T4 >= S.
 
 open_(U, T) :- T >= U, T =< 240.
+
+% A tip: an interior angle below bound(tip_corner, _).
+tip_(T) :- bound(tip_corner, K), T < K.
+not_tip_(T) :- bound(tip_corner, K), T >= K.
 
 %% context_feature(+Ctx, -Feature)
 %

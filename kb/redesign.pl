@@ -62,7 +62,7 @@ violation(remaining_corner(N, Deg), small_remaining(N)) :-
 % Rule corrects Action, which commits Violation, into NewAction.
 % ?- redesign_rule(R, ctx(180, 180, 180, 180, 180, 1, 1), a2(90, 90),
 %                  near_boundary(n3), A).
-%    R = rd6, A = a2(81.0, 81.0).
+%    R = rd6, A = a2(81.0, 81.0) ;  false.
 
 % A new corner on top of a front node: the fronts meet, use the node.
 redesign_rule(rd_merge, _, A, near_node(C), merge(C, A)).
@@ -97,19 +97,24 @@ redesign_rule(rd8, _, a2(P2, P4), near_concave(e34), a2(P2, Q4)) :-
     Q4 is P4 * 0.85.
 % Adding one line, Fig. 14: a3 is replaced by a2 on N1N2 or on N2N3
 % (shift(1, A): act on the next edge, whose N1 is this N2), else by a1.
+% The a2 over a corner is design.pl's: a parallelogram, or the kite of a
+% tip.
 redesign_rule(rd9, ctx(_, _, T1, _, _, _, _), a3, small_corner(n3), a2(P, P)) :-
-    P is 180 - T1.
+    corner_a2_(T1, P).
 redesign_rule(rd9, ctx(_, _, T1, _, _, _, _), a3, large_corner(n4), a2(P, P)) :-
-    P is 180 - T1.
+    corner_a2_(T1, P).
 redesign_rule(rd10, ctx(_, _, _, T2, _, _, _), a3, small_corner(n4), shift(1, a2(P, P))) :-
-    P is 180 - T2.
+    corner_a2_(T2, P).
 redesign_rule(rd10, ctx(_, _, _, T2, _, _, _), a3, large_corner(n3), shift(1, a2(P, P))) :-
-    P is 180 - T2.
+    corner_a2_(T2, P).
 redesign_rule(rd11, ctx(_, _, T1, _, _, _, _), a3, small_remaining(n3), a2(P, P)) :-
-    P is 180 - T1.
+    corner_a2_(T1, P).
 redesign_rule(rd12, ctx(_, _, _, T2, _, _, _), a3, small_remaining(n4), shift(1, a2(P, P))) :-
-    P is 180 - T2.
+    corner_a2_(T2, P).
+% Otherwise a1 over the edge, which shares the corners at N1 and N2: not
+% when either is a tip (a tip is taken whole, never shared).
 redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6), a3, _, A) :-
+    not_tip_(T1), not_tip_(T2),
     feature_action(b1, ctx(_, _, T1, T2, _, L5, L6), A).
 
 %% redesign(+Ctx, +Action, +Relations, -Rule, -NewAction)

@@ -8,7 +8,7 @@ the other bounds keep the values below).
 
 ```
 ?- strategy(S).
-   S = [b4,b5,b3,b2,b1].
+   S = [tip,b4,b5,b3,b2,b1].
 ?- bound(upper_corner, U).
    U = 135.
 ```
@@ -21,10 +21,14 @@ the other bounds keep the values below).
 %
 % The order in which features are looked for on the front (the paper's
 % recursion strategy, found by graph tests): the first feature of the
-% list present anywhere on the front is acted on first.
+% list present anywhere on the front is acted on first. A tip (a corner
+% sharper than bound(tip_corner, _), features.pl) comes before the
+% paper's order: it is the most constrained place of the front (one
+% element must take it whole), and the fronts that grow round it only
+% narrow it.
 % ?- strategy(S).
-%    S = [b4,b5,b3,b2,b1].
-strategy([b4, b5, b3, b2, b1]).
+%    S = [tip,b4,b5,b3,b2,b1].
+strategy([tip, b4, b5, b3, b2, b1]).
 
 %% bound(?Name, ?Value)
 %
@@ -34,6 +38,9 @@ strategy([b4, b5, b3, b2, b1]).
 % b2_side: the least angle at N2 and N4 for b2. The scanned paper reads
 %   180 deg; 180 leaves a corner beside a slightly convex arc (175 deg)
 %   with no feature at all, so the default is 160.
+% tip_corner: a front corner sharper than this (deg) is a tip: one
+%   element takes it whole (feature tip); b2, b4, b5, made for corners
+%   an element may share or square off, leave it alone.
 % reflex_split: an angle above this is split into several elements (a1
 %   then takes theta/k with k = round(theta/90) instead of theta/2).
 % near_vertical, near_horizontal: Fig. 10's "small", as fractions of the
@@ -78,6 +85,7 @@ strategy([b4, b5, b3, b2, b1]).
 bound(upper_corner, 135).
 bound(lower_corner, 45).
 bound(b2_side, 160).
+bound(tip_corner, 45).
 bound(reflex_split, 240).
 bound(near_vertical, 0.45).
 bound(near_horizontal, 0.3).

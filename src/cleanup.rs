@@ -28,7 +28,7 @@ use glam::DVec2;
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 
-use crate::element_quality::sine_worst_around;
+use crate::element_quality::sine_worst_around_every_corner;
 
 mod changes;
 
@@ -154,7 +154,7 @@ fn rounds(
                 candidates,
                 |w, changed| {
                     let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
-                    sine_worst_around(w.mesh, &pairs)
+                    sine_worst_around_every_corner(w.mesh, &pairs)
                 },
                 |w, region| w.worst_of(region),
                 |before, after| clearly_better(after, before).then_some(after),

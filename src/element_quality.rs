@@ -7,7 +7,7 @@
 use glam::DVec2;
 
 use crate::geometry::{interior_angle, orient2d};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
 
 /// How far an element's worst corner is from the corner window
@@ -48,16 +48,68 @@ pub(crate) fn angle_unless_inside(q: &[DVec2; 4], i: usize, bounds: &ElementBoun
 
 /// How far the worst corner of an element is past the window (degrees).
 pub(crate) fn worst_excess(q: [DVec2; 4], bounds: &ElementBounds) -> f64 {
+    worst_excess_but(q, bounds, NO_TIPS)
+}
+
+/// `worst_excess` over the corners not marked in `skip`.
+fn worst_excess_but(q: [DVec2; 4], bounds: &ElementBounds, skip: [bool; 4]) -> f64 {
     (0..4)
+        .filter(|&i| !skip[i])
         .filter_map(|i| angle_unless_inside(&q, i, bounds))
         .map(|a| bounds.corner_excess(a))
         .fold(0.0, f64::max)
 }
 
+const NO_TIPS: [bool; 4] = [false; 4];
+
+/// The corners of element `q` that are tips of the input taken whole:
+/// the corner and both its neighbours input nodes (which never move) and
+/// the corner sharper than the window's lower corner. No move changes
+/// such a corner, so the measures over a mesh (`badness_of`,
+/// `worst_around`, `sine_worst_around`) leave it out: else the tip's own
+/// excess would hide what a move does to the element's other corners.
+pub(crate) fn fixed_tips(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> [bool; 4] {
+    let quad = mesh.quads[q];
+    let fixed = |i: usize| mesh.kinds[quad[i % 4] as usize] == NodeKind::Boundary;
+    if !(0..4).any(|i| fixed(i) && fixed(i + 1) && fixed(i + 3)) {
+        return NO_TIPS;
+    }
+    let p = mesh.quad_points(q);
+    std::array::from_fn(|i| {
+        if !(fixed(i) && fixed(i + 1) && fixed(i + 3)) {
+            return false;
+        }
+        let a = p[(i + 1) % 4] - p[i];
+        let b = p[(i + 3) % 4] - p[i];
+        let d = a.dot(b);
+        d > 0.0 && d * d > bounds.cos2_lower * a.length_squared() * b.length_squared()
+    })
+}
+
+/// `badness` of element `q` of a mesh, its fixed tips left out.
+pub(crate) fn badness_of(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> f64 {
+    let p = mesh.quad_points(q);
+    let skip = fixed_tips(mesh, q, bounds);
+    if skip == NO_TIPS {
+        return badness(p, bounds);
+    }
+    for i in 0..4 {
+        if orient2d(p[i], p[(i + 1) % 4], p[(i + 2) % 4]) <= 0.0 {
+            return f64::INFINITY;
+        }
+    }
+    worst_excess_but(p, bounds, skip)
+}
+
 /// An element's `badness` and its scaled Jacobian (smallest sine of a
-/// corner) together, the edge vectors worked out once: the same numbers
-/// as the two functions apart. None if the element is not convex.
-pub(crate) fn badness_and_sine(q: [DVec2; 4], bounds: &ElementBounds) -> Option<(f64, f64)> {
+/// corner) together, over the corners not marked in `skip` (convexity
+/// over all four), the edge vectors worked out once: the same numbers as
+/// the two measures apart. None if the element is not convex.
+fn badness_and_sine_but(
+    q: [DVec2; 4],
+    bounds: &ElementBounds,
+    skip: [bool; 4],
+) -> Option<(f64, f64)> {
     for i in 0..4 {
         if orient2d(q[i], q[(i + 1) % 4], q[(i + 2) % 4]) <= 0.0 {
             return None;
@@ -67,13 +119,17 @@ pub(crate) fn badness_and_sine(q: [DVec2; 4], bounds: &ElementBounds) -> Option<
     let unit = e.map(DVec2::normalize_or_zero);
     let mut inside = true;
     let mut min_sin = f64::INFINITY;
-    for i in 0..4 {
+    for i in (0..4).filter(|&i| !skip[i]) {
         // corner i between e[i] and the reversed e[i - 1]
         let (a, b) = (e[i], -e[(i + 3) % 4]);
         inside &= bounds.corner_inside(a.dot(b), a.length_squared(), b.length_squared());
         min_sin = min_sin.min(unit[i].perp_dot(-unit[(i + 3) % 4]));
     }
-    let bad = if inside { 0.0 } else { worst_excess(q, bounds) };
+    let bad = if inside {
+        0.0
+    } else {
+        worst_excess_but(q, bounds, skip)
+    };
     Some((bad, min_sin))
 }
 
@@ -81,10 +137,21 @@ pub(crate) fn badness_and_sine(q: [DVec2; 4], bounds: &ElementBounds) -> Option<
 /// (infinite if one is not convex): the same order as `worst_around`
 /// (the corner farthest from a right angle has the smallest sine), for
 /// a fraction of its cost.
-pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
+pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
+    sine_worst_around_of(mesh, around, Some(bounds))
+}
+
+/// `sine_worst_around` with every corner counted, fixed tips too (see
+/// `worst_around_every_corner`).
+pub(crate) fn sine_worst_around_every_corner(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
+    sine_worst_around_of(mesh, around, None)
+}
+
+fn sine_worst_around_of(mesh: &Mesh, around: &[(u32, u8)], tips: Option<&ElementBounds>) -> f64 {
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        match convex_scaled_jacobian(mesh.quad_points(q as usize)) {
+        let skip = tips.map_or(NO_TIPS, |b| fixed_tips(mesh, q as usize, b));
+        match convex_sine_but(mesh.quad_points(q as usize), skip) {
             Some(s) => min_sin = min_sin.min(s),
             None => return f64::INFINITY,
         }
@@ -92,9 +159,14 @@ pub(crate) fn sine_worst_around(mesh: &Mesh, around: &[(u32, u8)]) -> f64 {
     -min_sin
 }
 
-/// The smallest sine of a corner of a convex element, None if it is not
-/// convex (plain arithmetic: for comparing places, not for the check).
-pub(crate) fn convex_scaled_jacobian(q: [DVec2; 4]) -> Option<f64> {
+/// The smallest sine of a corner of element `q` of a mesh (its scaled
+/// Jacobian), its fixed tips left out; None if it is not convex (plain
+/// arithmetic: for comparing places, not for the check).
+fn convex_sine_of(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> Option<f64> {
+    convex_sine_but(mesh.quad_points(q), fixed_tips(mesh, q, bounds))
+}
+
+fn convex_sine_but(q: [DVec2; 4], skip: [bool; 4]) -> Option<f64> {
     let e: [DVec2; 4] = std::array::from_fn(|i| q[(i + 1) % 4] - q[i]);
     let inv = e.map(|v| 1.0 / v.length());
     let mut min_sin = f64::INFINITY;
@@ -105,7 +177,9 @@ pub(crate) fn convex_scaled_jacobian(q: [DVec2; 4]) -> Option<f64> {
         if !(cross > 0.0) {
             return None;
         }
-        min_sin = min_sin.min(cross * inv[i] * inv[j]);
+        if !skip[i] {
+            min_sin = min_sin.min(cross * inv[i] * inv[j]);
+        }
     }
     Some(min_sin)
 }
@@ -117,10 +191,35 @@ pub(crate) fn worst_around(
     around: &[(u32, u8)],
     bounds: &ElementBounds,
 ) -> (f64, f64) {
+    worst_around_of(mesh, around, bounds, true)
+}
+
+/// `worst_around` with every corner counted, fixed tips too: for
+/// comparing elements before and after a change of topology (a flip or a
+/// collapse makes and unmakes corners, fixed ones too).
+pub(crate) fn worst_around_every_corner(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+) -> (f64, f64) {
+    worst_around_of(mesh, around, bounds, false)
+}
+
+fn worst_around_of(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+    leave_out_tips: bool,
+) -> (f64, f64) {
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let Some((b, s)) = badness_and_sine(mesh.quad_points(q as usize), bounds) else {
+        let skip = if leave_out_tips {
+            fixed_tips(mesh, q as usize, bounds)
+        } else {
+            NO_TIPS
+        };
+        let Some((b, s)) = badness_and_sine_but(mesh.quad_points(q as usize), bounds, skip) else {
             return (f64::INFINITY, f64::INFINITY);
         };
         bad = bad.max(b);
@@ -141,7 +240,8 @@ pub(crate) fn worst_around_under(
     let mut bad: f64 = 0.0;
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        let (b, s) = badness_and_sine(mesh.quad_points(q as usize), bounds)?;
+        let skip = fixed_tips(mesh, q as usize, bounds);
+        let (b, s) = badness_and_sine_but(mesh.quad_points(q as usize), bounds, skip)?;
         bad = bad.max(b);
         min_sin = min_sin.min(s);
         if !((bad, -min_sin) < best) {
@@ -153,10 +253,15 @@ pub(crate) fn worst_around_under(
 
 /// `sine_worst_around` if it is smaller than `best`, else None (judged
 /// element by element, as `worst_around_under`).
-pub(crate) fn sine_worst_around_under(mesh: &Mesh, around: &[(u32, u8)], best: f64) -> Option<f64> {
+pub(crate) fn sine_worst_around_under(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    best: f64,
+    bounds: &ElementBounds,
+) -> Option<f64> {
     let mut min_sin = f64::INFINITY;
     for &(q, _) in around {
-        min_sin = min_sin.min(convex_scaled_jacobian(mesh.quad_points(q as usize))?);
+        min_sin = min_sin.min(convex_sine_of(mesh, q as usize, bounds)?);
         if !(-min_sin < best) {
             return None;
         }

@@ -198,6 +198,11 @@ pub struct HostBounds {
     /// whose elements have a corner closer than this to 0 or 180 degrees
     /// is moved to the best place of a search.
     pub centre_search_below: f64,
+    /// `tip_corner`: a front corner sharper than this (degrees) is a tip,
+    /// taken whole by one element; the validity check lets that element's
+    /// corner there be as sharp as the tip and its sides across the tip
+    /// as short as the tip's wedge makes them.
+    pub tip_corner: f64,
     /// `fallback_take_back`: where the rules stop, the elements next to an
     /// open loop with an area under this many element sizes squared are
     /// taken back into it (see fallback/stuck_loops.rs).
@@ -210,14 +215,16 @@ pub struct HostBounds {
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
-        HostBounds::new([4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 0.25, 1.5])
-            .expect("the built-in host bounds are consistent")
+        HostBounds::new([
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5,
+        ])
+        .expect("the built-in host bounds are consistent")
     }
 }
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 10] = [
+    pub const NAMES: [&'static str; 11] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -226,6 +233,7 @@ impl HostBounds {
         "relation_inner_above",
         "relation_reach",
         "centre_search_below",
+        "tip_corner",
         "fallback_take_back",
         "fallback_spacing",
     ];
@@ -233,8 +241,8 @@ impl HostBounds {
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 10]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, fallback_take_back, fallback_spacing] =
+    pub fn new(v: [f64; 11]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -244,6 +252,7 @@ impl HostBounds {
             (0.0, 180.0),
             (0.0, 180.0),
             (0.0, f64::MAX),
+            (0.0, 90.0),
             (0.0, 90.0),
             (0.0, f64::MAX),
             (0.1, f64::MAX),
@@ -266,6 +275,7 @@ impl HostBounds {
             relation_inner_above,
             relation_reach,
             centre_search_below,
+            tip_corner,
             fallback_take_back,
             fallback_spacing,
         })
@@ -303,7 +313,9 @@ mod tests {
 
     #[test]
     fn a_negative_reach_is_refused() {
-        let mut v = [4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 0.25, 1.5];
+        let mut v = [
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5,
+        ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();
         assert!(e.contains("relation_reach"), "{e}");

@@ -3,7 +3,10 @@
 //! [4, 176] degrees (the KB's `bound(valid_corner, 4)`, as each number
 //! here), no edge a sliver, no front edge crossing it, no
 //! front node inside it and, for a designed element, no new corner or
-//! edge so close to the front that a sliver is left between them.
+//! edge so close to the front that a sliver is left between them. An
+//! element that takes a tip (a front corner below `bound(tip_corner, _)`)
+//! whole may have its corner there as sharp as the tip, and its sides
+//! across the tip as short as the tip's wedge makes them.
 //! Orientation and crossing tests use robust predicates (geometry.rs).
 
 use glam::DVec2;
@@ -87,9 +90,11 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> Re
             }
         }
     }
-    // every corner in [V, 180 - V] degrees: told without trigonometry
-    // where clearly so (|cos| below cos V with a margin), measured elsewhere
+    // a tip (a front corner sharper than `tip_corner`) taken whole: its
+    // corner may be as sharp as the front's, and its sides across the tip
+    // as short as the tip's wedge makes them
     let h = pm.host;
+    let tip = whole_tip(pm, q, h.tip_corner);
     let clearly_open = (0..4).all(|i| {
         let a = p[(i + 1) % 4] - p[i];
         let b = p[(i + 3) % 4] - p[i];
@@ -97,14 +102,22 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> Re
         d * d < h.cos2_valid_corner * (1.0 - 1e-9) * a.length_squared() * b.length_squared()
     });
     let corners = h.valid_corner..=180.0 - h.valid_corner;
-    if !clearly_open && quad_angles(p).iter().any(|a| !corners.contains(a)) {
+    let tip_ok = |a: f64| tip.is_some_and(|(t, _)| a > 0.0 && a <= t + 1e-9);
+    if !clearly_open
+        && quad_angles(p)
+            .iter()
+            .any(|&a| !corners.contains(&a) && !tip_ok(a))
+    {
         return Err(Vetoed::Corner);
     }
     // No sliver: every edge at least a quarter of the base edge, so a
-    // rule that keeps shrinking an element cannot run away.
+    // rule that keeps shrinking an element cannot run away. Beside a tip
+    // of angle t the sides across it are shorter (`whole_tip`).
     let pos = |x| qpos(&pm.front, &pm.mesh.nodes, x);
     let base = (pos(q[1]) - pos(q[0])).length();
-    if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < (h.valid_edge * base).max(pm.min_edge)) {
+    let scale = tip.map_or(1.0, |(_, s)| s);
+    let shortest = (h.valid_edge * base).max(pm.min_edge) * scale;
+    if (0..4).any(|i| (p[(i + 1) % 4] - p[i]).length() < shortest) {
         return Err(Vetoed::ShortEdge);
     }
     if quad_clear(pm, p, &ids, h.valid_clearance * base) {
@@ -112,6 +125,36 @@ pub fn element_valid(pm: &mut PartialMesh, q: &[QNode; 4], mirrored: bool) -> Re
     } else {
         Err(Vetoed::Front)
     }
+}
+
+/// The sharpest tip (a front corner below `tip_corner` degrees) the
+/// element takes whole, its two sides there being the front's edges: the
+/// corner (degrees) and the share sqrt(2) sin(t/2) of the usual shortest
+/// edge its sides across the tip may come down to (a kite over the tip
+/// with a right angle opposite, kb/design.pl, has sides that short).
+fn whole_tip(pm: &PartialMesh, q: &[QNode; 4], tip_corner: f64) -> Option<(f64, f64)> {
+    let front = &pm.front;
+    let mut out: Option<(f64, f64)> = None;
+    for k in 0..4 {
+        let QNode::Front(fv) = q[k] else { continue };
+        let (a, b) = (
+            qnode_id(front, q[(k + 1) % 4]),
+            qnode_id(front, q[(k + 3) % 4]),
+        );
+        let (p, n) = (front.node(front.prev(fv)), front.node(front.next(fv)));
+        let whole = (a == Some(p) && b == Some(n)) || (a == Some(n) && b == Some(p));
+        if !whole {
+            continue;
+        }
+        let t = front.angle(fv, &pm.mesh.nodes);
+        if t < tip_corner && out.map_or(true, |(o, _)| t < o) {
+            // the kite's sides across a tip of t: sqrt 2 sin(t/2) of its
+            // sides along the front
+            let s = (std::f64::consts::SQRT_2 * (t / 2.0).to_radians().sin()).min(1.0);
+            out = Some((t, s));
+        }
+    }
+    out
 }
 
 /// True iff no front edge crosses the element `p` (counter-clockwise;

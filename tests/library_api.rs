@@ -149,7 +149,7 @@ fn an_option_out_of_range_is_a_typed_error_naming_the_option() {
 
 #[test]
 fn a_run_the_rules_cannot_finish_hands_back_where_it_stopped() {
-    let domain = Domain::from_file("tests/stuck/slot.json").unwrap();
+    let domain = Domain::from_file("tests/stuck/spike.json").unwrap();
     let mut kb = KnowledgeBase::builtin().unwrap();
     let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
     // only the loops the rules left open are meshed by the fallback

@@ -4,9 +4,9 @@
 
 use freemesh::{mesh_domain, Domain, Flow, KnowledgeBase, Options, Repl};
 
-/// A rounded slot round a tiny hole (random domain 243 of the long run):
-/// the rules stop on it, the fallback closes the loops they leave open.
-const STUCK: &str = "tests/stuck/slot.json";
+/// A spike of 1 degree: the rules stop by it, the fallback closes the
+/// loops they leave open.
+const STUCK: &str = "tests/stuck/spike.json";
 
 #[test]
 fn the_repls_run_finishes_a_stuck_domain_as_mesh_does() {

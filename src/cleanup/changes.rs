@@ -4,7 +4,9 @@
 
 use glam::DVec2;
 
-use crate::element_quality::{sine_worst_around, sine_worst_around_under, worst_around};
+use crate::element_quality::{
+    sine_worst_around, sine_worst_around_under, worst_around_every_corner,
+};
 use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
 use crate::smoothing::compass_search_steps;
@@ -68,10 +70,11 @@ impl Working<'_> {
         self.alive[q as usize] = false;
     }
 
-    /// The worst corner over elements `qs` (infinite if one is not convex).
+    /// The worst corner over elements `qs` (infinite if one is not convex),
+    /// every corner counted: a change of topology makes and unmakes corners.
     pub(crate) fn worst_of(&self, qs: &[u32]) -> Worst {
         let pairs: Vec<(u32, u8)> = qs.iter().map(|&q| (q, 0)).collect();
-        worst_around(self.mesh, &pairs, &self.bounds)
+        worst_around_every_corner(self.mesh, &pairs, &self.bounds)
     }
 
     /// How far elements `qs` are past the paper's bounds on shape and size
@@ -138,13 +141,14 @@ impl Working<'_> {
                     continue;
                 }
                 let pairs = self.around_pairs(n);
-                let start = sine_worst_around(self.mesh, &pairs);
+                let bounds = self.bounds;
+                let start = sine_worst_around(self.mesh, &pairs, &bounds);
                 let best = compass_search_steps(
                     self.mesh,
                     n as usize,
                     &pairs,
                     start,
-                    |m, best| sine_worst_around_under(m, &pairs, best),
+                    |m, best| sine_worst_around_under(m, &pairs, best, &bounds),
                     |w, b| w < b,
                     COMPASS_STEPS,
                 );

@@ -24,7 +24,7 @@ use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 /// Why the last resort could not mesh (a defect: a valid domain always
 /// meshes).
 #[derive(Debug, thiserror::Error)]
-#[error("the triangle fallback failed: {0}")]
+#[error("the rules stopped and the fallback cannot mesh the domain: {0}")]
 pub struct FallbackError(pub(crate) String);
 
 /// Meshes the discretised domain by triangles split into quads.
@@ -130,9 +130,15 @@ fn triangles_to_quads(
     for e in boundary {
         let made = cdt.try_add_constraint(node_handle[&e.a], node_handle[&e.b]);
         if made.len() != 1 {
+            let m = (boundary_nodes[e.a as usize] + boundary_nodes[e.b as usize]) / 2.0;
+            let name = groups
+                .get(e.group as usize)
+                .map_or("the boundary", String::as_str);
             return Err(FallbackError(format!(
-                "boundary edge {}-{} crosses another or passes through a node",
-                e.a, e.b
+                "near ({:.6}, {:.6}) on {name}, the boundary's segments at this size cross \
+                 another part of the boundary (two parts closer than an element there: \
+                 a smaller size or a wider corner may mesh it)",
+                m.x, m.y
             )));
         }
     }

@@ -7,7 +7,7 @@
 
 use glam::DVec2;
 
-use crate::element_quality::badness;
+use crate::element_quality::badness_of;
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
@@ -47,14 +47,14 @@ pub(crate) fn laplace_sweeps(
             }
             let before = around[n]
                 .iter()
-                .map(|&(q, _)| badness(mesh.quad_points(q as usize), bounds))
+                .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
                 .fold(0.0, f64::max);
             // try the full move, then half of it
             for t in [1.0, 0.5] {
                 mesh.nodes[n] = old + (target - old) * t;
                 let after = around[n]
                     .iter()
-                    .map(|&(q, _)| badness(mesh.quad_points(q as usize), bounds))
+                    .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
                     .fold(0.0, f64::max);
                 if after.is_finite() && after <= before.max(0.0) + 1e-9 {
                     kept += 1;
