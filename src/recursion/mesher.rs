@@ -567,7 +567,9 @@ impl<'k> Mesher<'k> {
         {
             return Ok(true);
         }
-        if self.pm.stats.unmeshed < self.pm.max_elements / 8 && self.unmesh_layer(l)? {
+        // taking back is costly (the rules mesh the region again): a small
+        // budget, the open-loop fallback closes what it leaves
+        if self.pm.stats.unmeshed < self.pm.max_elements / 32 && self.unmesh_layer(l)? {
             return Ok(true);
         }
         if self.pm.stats.fallback_splits < self.pm.max_elements / 4 {
