@@ -17,7 +17,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use std::collections::HashMap;
 
 use super::triangles::{
-    inside_triangles, lattice_points, place_centre, project_on_chain, FallbackError,
+    inside_triangles, lattice_points, place_centre, project_on_chain, split_in_three, FallbackError,
 };
 use crate::input::domain::Domain;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
@@ -67,12 +67,13 @@ pub fn close_open_loops(
             directed.push((l[i], l[(i + 1) % l.len()]));
         }
     }
-    let mut mesh = mesh.clone();
+    // the one copy of the mesh, its rules' elements taken out to be split
+    let mut out = mesh.clone();
     let taken = match take_back {
-        Some(area) => take_back_small(&mut mesh, &mut directed, &on_curve, area),
+        Some(area) => take_back_small(&mut out, &mut directed, &on_curve, area),
         None => 0,
     };
-    let mesh = &mesh;
+    let rule_quads = std::mem::take(&mut out.quads);
     // The region's edges: an edge met once bounds the open region; met
     // twice (both sides of a line, a slit) it lies inside it.
     let mut loop_edges: Vec<(u32, u32)> = Vec::new();
@@ -91,7 +92,7 @@ pub fn close_open_loops(
 
     // The halving, carried along the chords of the rules' elements.
     let mut quads_of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
-    for (qi, q) in mesh.quads.iter().enumerate() {
+    for (qi, q) in rule_quads.iter().enumerate() {
         for i in 0..4 {
             quads_of
                 .entry(key(q[i], q[(i + 1) % 4]))
@@ -109,7 +110,7 @@ pub fn close_open_loops(
         let k = halved[next];
         next += 1;
         for &(qi, i) in quads_of.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
-            let q = mesh.quads[qi];
+            let q = rule_quads[qi];
             let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
             if let std::collections::hash_map::Entry::Vacant(v) = is_halved.entry(opposite) {
                 v.insert(u32::MAX);
@@ -117,7 +118,6 @@ pub fn close_open_loops(
             }
         }
     }
-    let mut out = mesh.clone();
     for &k in &halved {
         let m = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
         let id = match on_curve.get(&k) {
@@ -129,9 +129,9 @@ pub fn close_open_loops(
 
     // The rules' elements, split where their edges are halved.
     let mid = |a: u32, b: u32| is_halved.get(&key(a, b)).copied();
-    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(mesh.quads.len() + 4 * halved.len());
+    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(rule_quads.len() + 4 * halved.len());
     let mut split_elements = 0;
-    for &q in &mesh.quads {
+    for &q in &rule_quads {
         let [a, b, c, d] = q;
         match (mid(a, b), mid(b, c)) {
             (None, None) => quads.push(q),
@@ -246,18 +246,9 @@ pub fn close_open_loops(
                 }),
             }
         };
-        let (mab, mbc, mca) = (m(&mut out, a, b), m(&mut out, b, c), m(&mut out, c, a));
-        let centre = [a, b, c, mab, mbc, mca]
-            .iter()
-            .map(|&n| out.nodes[n as usize])
-            .sum::<DVec2>()
-            / 6.0;
-        let g = out.add_node(centre, NodeKind::Interior);
-        let first = out.quads.len();
-        out.quads.push([a, mab, g, mca]);
-        out.quads.push([b, mbc, g, mab]);
-        out.quads.push([c, mca, g, mbc]);
-        let three = [first, first + 1, first + 2];
+        let mids = [m(&mut out, a, b), m(&mut out, b, c), m(&mut out, c, a)];
+        let (g, three) = split_in_three(&mut out, [a, b, c], mids);
+        let centre = out.nodes[g as usize];
         let convex = three
             .iter()
             .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)));

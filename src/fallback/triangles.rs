@@ -185,17 +185,8 @@ fn triangles_to_quads(
         })
         .collect();
     let mut centres = Vec::with_capacity(triangles.len());
-    for (&[a, b, c], &[mab, mbc, mca]) in triangles.iter().zip(&mids) {
-        let centre = [a, b, c, mab, mbc, mca]
-            .iter()
-            .map(|&n| mesh.nodes[n as usize])
-            .sum::<DVec2>()
-            / 6.0;
-        let g = mesh.add_node(centre, NodeKind::Interior);
-        centres.push(g);
-        mesh.quads.push([a, mab, g, mca]);
-        mesh.quads.push([b, mbc, g, mab]);
-        mesh.quads.push([c, mca, g, mbc]);
+    for (&tri, &m) in triangles.iter().zip(&mids) {
+        centres.push(split_in_three(&mut mesh, tri, m).0);
     }
     // Where a midpoint on a strongly curved boundary makes a quad of its
     // (thin) triangle non-convex: first look for a better centre; failing
@@ -259,6 +250,25 @@ fn triangles_to_quads(
         });
     }
     Ok(Ok(mesh))
+}
+
+/// Splits the triangle `tri` into three quads by its edges' midpoints
+/// `mids` (a-b, b-c, c-a) and a centre node: the mean of the hexagon of
+/// corners and midpoints (the centroid where the edges are straight).
+/// Returns the centre and the new quads' indices.
+pub(super) fn split_in_three(mesh: &mut Mesh, tri: [u32; 3], mids: [u32; 3]) -> (u32, [usize; 3]) {
+    let ([a, b, c], [mab, mbc, mca]) = (tri, mids);
+    let centre = [a, b, c, mab, mbc, mca]
+        .iter()
+        .map(|&n| mesh.nodes[n as usize])
+        .sum::<DVec2>()
+        / 6.0;
+    let g = mesh.add_node(centre, NodeKind::Interior);
+    let first = mesh.quads.len();
+    mesh.quads.push([a, mab, g, mca]);
+    mesh.quads.push([b, mbc, g, mab]);
+    mesh.quads.push([c, mca, g, mbc]);
+    (g, [first, first + 1, first + 2])
 }
 
 fn quad_convex(mesh: &Mesh, q: usize) -> bool {
