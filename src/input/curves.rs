@@ -336,3 +336,127 @@ pub(crate) fn point_text(p: DVec2, decimals: usize) -> String {
     let word = if x_exact && y_exact { "at" } else { "near" };
     format!("{word} ({x}, {y})")
 }
+
+/// Where two curves that follow each other (`first` ends where `second`
+/// starts) meet again, other than at their shared point: an arc that
+/// leaves a corner almost backwards along the edge before it crosses it a
+/// little further on, closer than any polyline check of the arc sees.
+/// Points within `tol` of the shared point are a tangent touch, not a
+/// crossing. Two lines meet again only by overlapping, which the segment
+/// checks see.
+pub(crate) fn second_meeting(first: &Curve, second: &Curve, tol: f64) -> Option<DVec2> {
+    let on_arc = |c: &Curve, p: DVec2| match *c {
+        Curve::Arc { a, b, bulge } => {
+            let (centre, _, a0, sweep) = Curve::arc_frame(a, b, bulge);
+            let ang = (p.y - centre.y).atan2(p.x - centre.x);
+            let rel = ((ang - a0) * sweep.signum()).rem_euclid(2.0 * PI);
+            rel <= sweep.abs() + 1e-12
+        }
+        _ => false,
+    };
+    let circle = |c: &Curve| match *c {
+        Curve::Arc { a, b, bulge } => Some(Curve::arc_frame(a, b, bulge).0),
+        _ => None,
+    };
+    let vertex = match *second {
+        Curve::Line { a, .. } | Curve::Arc { a, .. } => a,
+        Curve::Circle { .. } => return None,
+    };
+    let hit = match (circle(first), circle(second)) {
+        (None, None) => return None,
+        (Some(c1), Some(c2)) => {
+            // two circles through V meet again at V mirrored in the line
+            // of their centres
+            let axis = c2 - c1;
+            if axis.length_squared() == 0.0 {
+                return None;
+            }
+            let foot = c1 + axis * ((vertex - c1).dot(axis) / axis.length_squared());
+            2.0 * foot - vertex
+        }
+        (Some(c), None) | (None, Some(c)) => {
+            // the line through V meets the circle again at s = -2 d.(V - c)
+            let (line_from, line_to) = match (*first, *second) {
+                (Curve::Line { a, b }, _) => (b, a),
+                (_, Curve::Line { a, b }) => (a, b),
+                _ => return None,
+            };
+            let len = (line_to - line_from).length();
+            if len == 0.0 {
+                return None;
+            }
+            let d = (line_to - line_from) / len;
+            let s = -2.0 * d.dot(vertex - c);
+            if s > len + tol {
+                return None;
+            }
+            vertex + d * s
+        }
+    };
+    let within = |c: &Curve| match *c {
+        Curve::Line { a, b } => {
+            let d = b - a;
+            let t = (hit - a).dot(d) / d.length_squared();
+            (-1e-12..=1.0 + 1e-12).contains(&t)
+        }
+        _ => on_arc(c, hit),
+    };
+    ((hit - vertex).length() > tol && within(first) && within(second)).then_some(hit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arc(a: [f64; 2], b: [f64; 2], bulge: f64) -> Curve {
+        Curve::Arc {
+            a: DVec2::from(a),
+            b: DVec2::from(b),
+            bulge,
+        }
+    }
+    fn line(a: [f64; 2], b: [f64; 2]) -> Curve {
+        Curve::Line {
+            a: DVec2::from(a),
+            b: DVec2::from(b),
+        }
+    }
+
+    #[test]
+    fn an_arc_leaving_a_corner_backwards_crosses_the_line_before_it() {
+        // the arc starts 0.8 degrees off the line it came along and curves
+        // back across it 0.087 from the corner
+        let l = line([1.369494, 0.836582], [-0.801826, -1.23605]);
+        let a = arc([-0.801826, -1.23605], [1.528682, -0.388674], -0.2173);
+        let p = second_meeting(&l, &a, 1e-6).expect("a crossing");
+        assert!((p - DVec2::new(-0.801826, -1.23605)).length() > 0.08);
+        assert!((l.project(p) - p).length() < 1e-9 && (a.project(p) - p).length() < 1e-9);
+        // the same arc curving the other way leaves the line for good
+        let away = arc([-0.801826, -1.23605], [1.528682, -0.388674], 0.2173);
+        assert_eq!(second_meeting(&l, &away, 1e-6), None);
+    }
+
+    #[test]
+    fn edges_that_only_share_their_corner_do_not_meet_again() {
+        // a rounded corner: an arc tangent to the line before it
+        let l = line([0.0, 0.0], [1.0, 0.0]);
+        let quarter = arc([1.0, 0.0], [2.0, 1.0], (PI / 8.0).tan());
+        assert_eq!(second_meeting(&l, &quarter, 1e-9), None);
+        // two arcs bulging apart from a common point
+        let a1 = arc([0.0, 0.0], [1.0, 0.0], 0.3);
+        let a2 = arc([1.0, 0.0], [2.0, 0.0], 0.3);
+        assert_eq!(second_meeting(&a1, &a2, 1e-9), None);
+        // a half disc: the line and the arc meet again at its other corner,
+        // past the end of the line
+        let half = arc([1.0, 0.0], [0.0, 0.0], 1.0);
+        assert!(second_meeting(&l, &half, 1e-9).is_some_and(|p| p.length() < 1e-9));
+    }
+
+    #[test]
+    fn two_arcs_that_cross_after_their_common_point_are_found() {
+        // a small arc going out and curving back across a large one
+        let big = arc([-1.0, 0.0], [0.0, 0.0], -0.05);
+        let back = arc([0.0, 0.0], [-0.5, -0.05], 0.9);
+        assert!(second_meeting(&big, &back, 1e-9).is_some());
+    }
+}

@@ -66,7 +66,8 @@ fn key_err(key: &str, message: impl Into<String>) -> DomainError {
 }
 
 use super::curves::{
-    chain_vertices, input_decimals, line_end, meeting_point, point_text, set_line_end, split_curve,
+    chain_vertices, input_decimals, line_end, meeting_point, point_text, second_meeting,
+    set_line_end, split_curve,
 };
 pub use super::curves::{Chain, Curve, Edge};
 use super::keys::unknown_keys;
@@ -626,6 +627,44 @@ impl Domain {
         }
     }
 
+    /// Edges that follow each other meet only at their shared point: the
+    /// exact test, since an arc may cross the edge before it within its
+    /// first polyline chord.
+    fn check_consecutive_edges(&self, tol: f64, decimals: usize) -> Result<(), DomainError> {
+        let chains = std::iter::once((&self.outer, true))
+            .chain(self.holes.iter().map(|h| (h, true)))
+            .chain(self.lines.iter().map(|l| (l, false)));
+        for (chain, closed) in chains {
+            let n = chain.edges.len();
+            let pairs = if closed { n } else { n.saturating_sub(1) };
+            for i in 0..pairs {
+                let (first, second) = (&chain.edges[i].curve, &chain.edges[(i + 1) % n].curve);
+                let Some(p) = second_meeting(first, second, tol) else {
+                    continue;
+                };
+                // a loop of two edges: they meet again at its other vertex
+                let other_vertex = match *first {
+                    Curve::Line { a, .. } | Curve::Arc { a, .. } => a,
+                    Curve::Circle { center, .. } => center,
+                };
+                if closed && n == 2 && (p - other_vertex).length() <= tol {
+                    continue;
+                }
+                let what = if closed {
+                    "the loop intersects itself"
+                } else {
+                    "the line crosses itself"
+                };
+                return Err(DomainError::Geometry(format!(
+                    "{}: {what} {}",
+                    chain.label,
+                    point_text(p, decimals)
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn check_geometry(&self) -> Result<(), DomainError> {
         let polys: Vec<(String, Vec<DVec2>, bool)> = std::iter::once((
             self.outer.label.clone(),
@@ -673,6 +712,7 @@ impl Domain {
             }
         }
         let decimals = input_decimals(self.chains());
+        self.check_consecutive_edges(1e-6 * scale, decimals)?;
         let mut seen = std::collections::HashSet::new();
         for cellv in grid.values() {
             for (x, &i) in cellv.iter().enumerate() {
