@@ -4,8 +4,11 @@
 //! ../shared/domain-format.md: star-shaped and non-convex outer loops with
 //! arcs, sharp and reflex corners, holes of several shapes (some close to
 //! each other or to the boundary), inner lines, narrow channels and thin
-//! slits, fixed and very unequal segment counts, sizes across three
-//! decades. A domain the validator refuses is skipped (and counted); every
+//! slits, fixed and very unequal segment counts, and the kinds that proved
+//! hard: spikes of 3 to 40 degrees, notches and cusps up to 358 degrees,
+//! chamfered corners, walls thinner than an element, blades with sharp
+//! trailing edges, mapped quadrilaterals with unequal fixed counts; models
+//! across six decades of scale. A domain the validator refuses is skipped (and counted); every
 //! other one must mesh, and its mesh is checked here, independently of the
 //! mesher's own check: all quads convex and counter-clockwise, conforming
 //! (an edge in at most two quads, the boundary edges in one), covering the
@@ -62,8 +65,12 @@ fn rot(p: P, c: P, a: f64, s: f64) -> P {
 /// The outer loop: one of several families, in a unit-ish frame.
 /// Returns its points, bulges and the radius of a disc about the origin
 /// that lies inside it (where holes and lines may go).
-fn outer_loop(rng: &mut Rng) -> (Vec<P>, Vec<f64>, f64) {
-    match rng.int(0, 4) {
+fn outer_loop(rng: &mut Rng) -> Shape {
+    let family = rng.int(0, 10);
+    if family >= 5 {
+        return hard_shape(family, rng);
+    }
+    let (pts, bulges, inner) = match family {
         // star-shaped, sharp and reflex corners, some arcs
         0 | 1 => {
             let n = rng.int(3, 11);
@@ -134,6 +141,201 @@ fn outer_loop(rng: &mut Rng) -> (Vec<P>, Vec<f64>, f64) {
             let pts = vec![[-1.0, -h], [1.0, -h], [1.0, h], [-1.0, h]];
             (pts, vec![0.0, 1.0, 0.0, 1.0], h * 0.5)
         }
+    };
+    Shape {
+        pts,
+        bulges,
+        inner,
+        holes: Vec::new(),
+        segments: None,
+    }
+}
+
+/// An outer loop in a unit-ish frame, holes of its own (points, bulges),
+/// fixed segment counts if the family fixes them, and the radius of a
+/// disc about the origin inside it where random holes and lines may go.
+struct Shape {
+    pts: Vec<P>,
+    bulges: Vec<f64>,
+    inner: f64,
+    holes: Vec<(Vec<P>, Vec<f64>)>,
+    segments: Option<Vec<usize>>,
+}
+
+impl Shape {
+    fn polygon(pts: Vec<P>) -> Shape {
+        let n = pts.len();
+        Shape {
+            pts,
+            bulges: vec![0.0; n],
+            inner: 0.0,
+            holes: Vec::new(),
+            segments: None,
+        }
+    }
+}
+
+/// The kinds of boundary that proved hard (issue 15): spikes, notches
+/// and cusps, chamfers, thin walls, blades with sharp trailing edges,
+/// mapped quadrilaterals with very unequal fixed counts.
+fn hard_shape(family: usize, rng: &mut Rng) -> Shape {
+    match family {
+        // a spike out of a rectangle's top, its tip 3 to 40 degrees
+        5 => {
+            let tip = rng.range(3.0, 40.0).to_radians();
+            let len = rng.range(0.3, 1.2);
+            let x = rng.range(-0.5, 0.5);
+            let lean = rng.range(-0.6, 0.6);
+            let half = len * (tip / 2.0).tan();
+            let apex = [x + lean * len, 0.5 + len];
+            // the base is wide enough for the tip angle at this lean
+            let w = half / (1.0 - lean.abs() * (tip / 2.0).tan()).max(0.2);
+            Shape::polygon(vec![
+                [-1.0, -0.5],
+                [1.0, -0.5],
+                [1.0, 0.5],
+                [x + w, 0.5],
+                apex,
+                [x - w, 0.5],
+                [-1.0, 0.5],
+            ])
+        }
+        // a notch cut into a rectangle from below, 2 to 30 degrees wide
+        // (a corner of 330 to 358 degrees), its sides straight or one an arc
+        6 => {
+            let open = rng.range(2.0, 30.0).to_radians();
+            let depth = rng.range(0.3, 0.8);
+            let x = rng.range(-0.5, 0.5);
+            let w = depth * (open / 2.0).tan();
+            let mut s = Shape::polygon(vec![
+                [-1.0, -0.5],
+                [x - w, -0.5],
+                [x, -0.5 + depth],
+                [x + w, -0.5],
+                [1.0, -0.5],
+                [1.0, 0.5],
+                [-1.0, 0.5],
+            ]);
+            if rng.chance(0.4) {
+                // the notch's far side an arc that leaves the tip nearly
+                // tangent to the near side and curves away from it: a cusp
+                // (its tangent turns from the chord by half its sweep)
+                s.bulges[2] = (open * rng.range(0.5, 0.98) / 4.0).tan();
+            }
+            s
+        }
+        // a polygon with chamfered corners: short edges at 30 to 60
+        // degrees between long ones
+        7 => {
+            let base: Vec<P> = if rng.chance(0.5) {
+                vec![[-1.0, -0.6], [1.0, -0.6], [1.0, 0.6], [-1.0, 0.6]]
+            } else {
+                vec![
+                    [-1.0, -1.0],
+                    [1.0, -1.0],
+                    [1.0, 0.0],
+                    [0.0, 0.0],
+                    [0.0, 1.0],
+                    [-1.0, 1.0],
+                ]
+            };
+            let n = base.len();
+            let mut pts = Vec::new();
+            for i in 0..n {
+                let (prev, at, next) = (base[(i + n - 1) % n], base[i], base[(i + 1) % n]);
+                let turn =
+                    (at[0] - prev[0]) * (next[1] - at[1]) - (at[1] - prev[1]) * (next[0] - at[0]);
+                if turn > 0.0 && rng.chance(0.8) {
+                    // cut the convex corner: the two cuts unequal, so the
+                    // chamfer meets the edges at 30 to 60 degrees
+                    let c = rng.range(0.04, 0.3);
+                    let k = rng.range(0.58, 1.73);
+                    let towards = |q: P, d: f64| {
+                        let (dx, dy) = (q[0] - at[0], q[1] - at[1]);
+                        let l = (dx * dx + dy * dy).sqrt();
+                        [at[0] + dx / l * d, at[1] + dy / l * d]
+                    };
+                    pts.push(towards(prev, c));
+                    pts.push(towards(next, (c * k).min(0.45)));
+                } else {
+                    pts.push(at);
+                }
+            }
+            Shape::polygon(pts)
+        }
+        // a C-channel or a tube: a wall 0.03 to 0.2 thick (sizes are 0.04
+        // to 0.15 here: a wall under one element to five elements wide)
+        8 => {
+            let t = rng.range(0.03, 0.2);
+            if rng.chance(0.5) {
+                Shape::polygon(vec![
+                    [-1.0, -0.6],
+                    [1.0, -0.6],
+                    [1.0, -0.6 + t],
+                    [-1.0 + t, -0.6 + t],
+                    [-1.0 + t, 0.6 - t],
+                    [1.0, 0.6 - t],
+                    [1.0, 0.6],
+                    [-1.0, 0.6],
+                ])
+            } else {
+                // a tube: two circles, each three arcs of 120 degrees (a
+                // loop has three points at least)
+                let ring = |r: f64| -> Vec<P> {
+                    (0..3)
+                        .map(|k| {
+                            let a = k as f64 * 2.0 * PI / 3.0;
+                            [r * a.cos(), r * a.sin()]
+                        })
+                        .collect()
+                };
+                let third = (PI / 6.0).tan();
+                Shape {
+                    pts: ring(1.0),
+                    bulges: vec![third; 3],
+                    inner: 0.0,
+                    holes: vec![(ring(1.0 - t), vec![third; 3])],
+                    segments: None,
+                }
+            }
+        }
+        // a blade in a box: a lens-shaped hole whose trailing edge is 5 to
+        // 40 degrees sharp, close to the box's side or not
+        9 => {
+            let chord = rng.range(0.8, 1.6);
+            let te = rng.range(5.0, 40.0).to_radians();
+            // two arcs from the leading to the trailing edge, both bulging
+            // out: the lens's corners are the sum of their half sweeps
+            let f = rng.range(0.3, 0.7);
+            let (upper, lower) = ((f * te / 4.0).tan(), ((1.0 - f) * te / 4.0).tan());
+            let y = rng.range(-0.4, 0.4);
+            let mut s = Shape::polygon(vec![[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]);
+            // the second arc through its middle point: a loop has three
+            // points at least (a positive bulge lies right of travel)
+            let middle = [0.0, y + chord / 2.0 * lower];
+            let half = (lower.atan() / 2.0).tan();
+            s.holes.push((
+                vec![[-chord / 2.0, y], [chord / 2.0, y], middle],
+                vec![upper, half, half],
+            ));
+            s
+        }
+        // a four-sided domain with very unequal fixed counts (mapped
+        // elements whose opposite sides differ)
+        _ => {
+            let mut s = Shape::polygon(vec![
+                [-1.0, -0.6],
+                [1.0, rng.range(-0.8, -0.4)],
+                [rng.range(0.7, 1.2), 0.6],
+                [rng.range(-1.2, -0.7), rng.range(0.4, 0.8)],
+            ]);
+            let mut counts: Vec<usize> = (0..4).map(|_| rng.int(1, 16)).collect();
+            if counts.iter().sum::<usize>() % 2 == 1 {
+                counts[0] += 1;
+            }
+            s.segments = Some(counts);
+            s
+        }
     }
 }
 
@@ -143,9 +345,10 @@ fn bulges_of(outer: &Value, i: usize) -> f64 {
 
 fn generate(seed: u64) -> Value {
     let mut rng = Rng(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x5DEE_CE66);
-    let (pts, bulges, inner) = outer_loop(&mut rng);
-    // sizes across three decades, anywhere in the plane
-    let scale = 10f64.powf(rng.range(-2.0, 1.0));
+    let shape = outer_loop(&mut rng);
+    let (pts, bulges, inner) = (&shape.pts, &shape.bulges, shape.inner);
+    // models across six decades, anywhere in the plane
+    let scale = 10f64.powf(rng.range(-3.0, 3.0));
     let centre = [
         rng.range(-100.0, 100.0) * scale,
         rng.range(-50.0, 50.0) * scale,
@@ -158,7 +361,9 @@ fn generate(seed: u64) -> Value {
         "bulges": bulges,
     });
     let n = pts.len();
-    if rng.chance(0.2) {
+    if let Some(counts) = &shape.segments {
+        outer["segments"] = json!(counts);
+    } else if rng.chance(0.2) {
         // fixed and very unequal counts on the straight edges (an arc in
         // one or two chords cannot keep its area, whatever the mesher);
         // 0 leaves the arcs' counts to the size
@@ -177,7 +382,11 @@ fn generate(seed: u64) -> Value {
         }
         outer["segments"] = json!(segs);
     }
-    let mut holes = Vec::new();
+    let mut holes: Vec<Value> = shape
+        .holes
+        .iter()
+        .map(|(p, b)| json!({ "points": p.iter().map(|&q| place(q)).collect::<Vec<_>>(), "bulges": b }))
+        .collect();
     let mut lines = Vec::new();
     if inner > 0.0 {
         let mut taken: Vec<(P, f64)> = Vec::new();
