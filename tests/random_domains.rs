@@ -65,10 +65,11 @@ fn rot(p: P, c: P, a: f64, s: f64) -> P {
 /// The outer loop: one of several families, in a unit-ish frame.
 /// Returns its points, bulges and the radius of a disc about the origin
 /// that lies inside it (where holes and lines may go).
-fn outer_loop(rng: &mut Rng) -> Shape {
+fn outer_loop(rng: &mut Rng) -> (&'static str, Shape) {
     let family = rng.int(0, 10);
+    let name = FAMILIES[family];
     if family >= 5 {
-        return hard_shape(family, rng);
+        return (name, hard_shape(family, rng));
     }
     let (pts, bulges, inner) = match family {
         // star-shaped, sharp and reflex corners, some arcs
@@ -142,14 +143,22 @@ fn outer_loop(rng: &mut Rng) -> Shape {
             (pts, vec![0.0, 1.0, 0.0, 1.0], h * 0.5)
         }
     };
-    Shape {
+    let shape = Shape {
         pts,
         bulges,
         inner,
         holes: Vec::new(),
         segments: None,
-    }
+    };
+    (name, shape)
 }
+
+/// The families' names, in the domain's name (random-SEED-FAMILY) so that
+/// a judged set can be read by family.
+const FAMILIES: [&str; 11] = [
+    "star", "star", "channel", "slit", "slot", "spike", "notch", "chamfer", "wall", "blade",
+    "mapped",
+];
 
 /// An outer loop in a unit-ish frame, holes of its own (points, bulges),
 /// fixed segment counts if the family fixes them, and the radius of a
@@ -345,7 +354,7 @@ fn bulges_of(outer: &Value, i: usize) -> f64 {
 
 fn generate(seed: u64) -> Value {
     let mut rng = Rng(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x5DEE_CE66);
-    let shape = outer_loop(&mut rng);
+    let (family, shape) = outer_loop(&mut rng);
     let (pts, bulges, inner) = (&shape.pts, &shape.bulges, shape.inner);
     // models across six decades, anywhere in the plane
     let scale = 10f64.powf(rng.range(-3.0, 3.0));
@@ -446,7 +455,7 @@ fn generate(seed: u64) -> Value {
         }
     }
     json!({
-        "name": format!("random-{seed}"),
+        "name": format!("random-{seed}-{family}"),
         "size": size,
         "outer": outer,
         "holes": holes,
