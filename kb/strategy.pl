@@ -79,6 +79,10 @@ strategy([tip, b4, b5, b3, b2, b1]).
 %   into it before the open loops are meshed by triangles.
 % fallback_spacing: the spacing of those triangles' interior points, in
 %   element sizes (each triangle is split into three quads).
+% thin_wall: two edges of the boundary facing each other closer than this
+%   many element sizes over most of their length get one segment count,
+%   so that one structured row of elements fills the wall between them
+%   (0: never).
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -104,3 +108,4 @@ bound(relation_reach, 1).
 bound(centre_search_below, 30).
 bound(fallback_take_back, 0.25).
 bound(fallback_spacing, 1.5).
+bound(thin_wall, 2).

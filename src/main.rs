@@ -566,6 +566,13 @@ fn mesh_one(
             result.stats.cleanup_flips,
             result.stats.cleanup_collapses
         );
+        if result.stats.thin_wall_edges > 0 {
+            eprintln!(
+                "{}: boundary: {} edges facing each other across thin walls given one segment count each (bound(thin_wall, K))",
+                domain.name(),
+                result.stats.thin_wall_edges
+            );
+        }
         let ph = &result.phases;
         eprintln!(
             "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",

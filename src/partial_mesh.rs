@@ -51,6 +51,9 @@ pub struct MeshStats {
     pub cleanup_flips: usize,
     /// Elements collapsed by the clean-up.
     pub cleanup_collapses: usize,
+    /// Input edges given one segment count with the edges they face
+    /// across a wall thinner than `bound(thin_wall, K)` element sizes.
+    pub thin_wall_edges: usize,
 }
 
 impl MeshStats {

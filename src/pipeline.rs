@@ -19,7 +19,7 @@ use crate::recursion::{MeshError, Mesher, Outcome, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
 use crate::report::trace::{By, TraceStep, Veto};
-use crate::settings::ElementBounds;
+use crate::settings::{ElementBounds, HostBounds};
 use crate::smoothing;
 
 /// How many times at most the clean-up and the smoothing round its
@@ -206,11 +206,22 @@ pub struct RunBoundary {
     disc: Discretised,
     size: f64,
     area: f64,
+    /// The `thin_wall` bound the segment counts were matched with.
+    wall: f64,
 }
 
 /// Discretises a domain's boundary with boundary size `size` (the
-/// domain's own when None) and draws the cutting lines.
+/// domain's own when None) and draws the cutting lines, with the built-in
+/// `thin_wall` bound (a run whose KB sets another discretises again).
 pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
+    discretise_with_wall(domain, size, HostBounds::default().thin_wall)
+}
+
+fn discretise_with_wall(
+    domain: &Domain,
+    size: Option<f64>,
+    wall: f64,
+) -> Result<RunBoundary, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
         return Err(OptionError::NotPositive {
@@ -230,9 +241,27 @@ pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBound
         }
         .into());
     }
-    let disc = boundary::discretise(domain, size)?;
+    let disc = boundary::discretise(domain, size, wall)?;
     let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
-    Ok(RunBoundary { disc, size, area })
+    Ok(RunBoundary {
+        disc,
+        size,
+        area,
+        wall,
+    })
+}
+
+/// The boundary discretised again where the KB's `thin_wall` bound is not
+/// the one it was made with.
+fn with_kb_wall(
+    domain: &Domain,
+    run_boundary: RunBoundary,
+    wall: f64,
+) -> Result<RunBoundary, Error> {
+    if run_boundary.wall == wall {
+        return Ok(run_boundary);
+    }
+    discretise_with_wall(domain, Some(run_boundary.size), wall)
 }
 
 /// The boundary features of a domain's initial loop (after the cutting
@@ -242,8 +271,12 @@ pub fn domain_features(
     kb: &mut KnowledgeBase,
     size: Option<f64>,
 ) -> Result<FrontFeatures, Error> {
-    let RunBoundary { disc, size, area } = discretise_for_run(domain, size)?;
-    let prepared = Prepared::new(disc, size, area, kb.settings()?);
+    let settings = kb.settings()?;
+    let run_boundary = discretise_for_run(domain, size)?;
+    let RunBoundary {
+        disc, size, area, ..
+    } = with_kb_wall(domain, run_boundary, settings.host.thin_wall)?;
+    let prepared = Prepared::new(disc, size, area, settings);
     Ok(Mesher::start_from(kb, prepared).front_features()?)
 }
 
@@ -385,10 +418,12 @@ pub fn prepare_run(
     check_options(opts)?;
     let kb_before = kb.stats;
     let t0 = Instant::now();
-    let RunBoundary { disc, size, area } = run_boundary;
-    let boundary = disc.clone();
     // the settings read once, here, and handed to the stages
     let settings = kb.settings()?;
+    let RunBoundary {
+        disc, size, area, ..
+    } = with_kb_wall(domain, run_boundary, settings.host.thin_wall)?;
+    let boundary = disc.clone();
     let prepared = Prepared::new(disc, size, area, settings);
     Ok(PreparedRun {
         prepared,
@@ -472,6 +507,12 @@ impl<'k> Run<'k> {
     /// mesh that fails its check, the last resort meshes the whole domain
     /// (see fallback/triangles.rs). The run is left empty.
     pub fn finish(&mut self) -> Result<MeshResult, Error> {
+        let mut r = self.finish_run()?;
+        r.stats.thin_wall_edges = self.boundary.thin_wall_edges;
+        Ok(r)
+    }
+
+    fn finish_run(&mut self) -> Result<MeshResult, Error> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let reason = match self.stopped.take() {
             Some(reason) => reason,

@@ -6,10 +6,11 @@ use glam::DVec2;
 
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
+use crate::input::thin_walls::match_facing_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
 /// The fewest segments a curve may have: one per 60 deg of arc.
-fn min_arc_segments(c: &Curve) -> usize {
+pub(crate) fn min_arc_segments(c: &Curve) -> usize {
     let sweep = match *c {
         Curve::Line { .. } => return 1,
         Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
@@ -21,22 +22,25 @@ fn min_arc_segments(c: &Curve) -> usize {
 }
 
 /// The segment count of every edge of every chain (outer, holes, lines in
-/// that order), with an even total: where the total of the derived counts
-/// is odd, the free edge of a loop with the longest segments gets one more.
-pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, DomainError> {
+/// that order), with an even total: edges facing each other across a wall
+/// thinner than `wall` element sizes get one count (see thin_walls.rs);
+/// where the total of the derived counts is odd, the free edge of a loop
+/// with the longest segments gets one more, outside the walls where it can.
+/// Returns the counts and how many edges a wall's matching covers.
+pub fn segment_counts(
+    domain: &Domain,
+    size: f64,
+    wall: f64,
+) -> Result<(Vec<Vec<usize>>, usize), DomainError> {
     let mut counts = Vec::new();
-    let mut total: u128 = 0;
-    // (segment length, chain, edge) of the free edges of loops
-    let mut best_free: Option<(f64, usize, usize)> = None;
-    let n_loops = 1 + domain.holes.len();
-    for (ci, chain) in domain.chains().enumerate() {
+    let mut fixed = Vec::new();
+    for chain in domain.chains() {
         let mut row = Vec::new();
         for (ei, e) in chain.edges.iter().enumerate() {
-            let len = e.curve.length();
             let n = match e.segments {
                 Some(n) => n,
                 None => {
-                    let est = (len / size).round();
+                    let est = (e.curve.length() / size).round();
                     if !est.is_finite() || est > MAX_BOUNDARY_SEGMENTS as f64 {
                         return Err(DomainError::Geometry(format!(
                             "{} edge {ei}: size {size} gives about {est:.3e} segments, above the limit of {MAX_BOUNDARY_SEGMENTS}",
@@ -46,20 +50,36 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
                     // No segment spans more than 60 deg of arc, so the
                     // chords stay close to the curve: a circle gets at
                     // least 6, a half circle 3.
-                    let n = (est as usize).max(1).max(min_arc_segments(&e.curve));
-                    if ci < n_loops {
-                        let cand = (len / n as f64, ci, ei);
-                        if best_free.is_none_or(|b| (cand.0, cand.1, cand.2) >= b) {
-                            best_free = Some(cand);
-                        }
-                    }
-                    n
+                    (est as usize).max(1).max(min_arc_segments(&e.curve))
                 }
             };
-            total += n as u128 * if ci >= n_loops { 2 } else { 1 };
             row.push(n);
         }
+        fixed.push(
+            chain
+                .edges
+                .iter()
+                .map(|e| e.segments.is_some())
+                .collect::<Vec<_>>(),
+        );
         counts.push(row);
+    }
+    let in_wall = match_facing_counts(domain, size, wall, &fixed, &mut counts);
+    let n_loops = 1 + domain.holes.len();
+    let mut total: u128 = 0;
+    // (outside the walls, segment length, chain, edge) of the free edges
+    // of loops: the last is the one to get a segment more
+    let mut best_free: Option<(bool, f64, usize, usize)> = None;
+    for (ci, (chain, row)) in domain.chains().zip(&counts).enumerate() {
+        for (ei, (e, &n)) in chain.edges.iter().zip(row).enumerate() {
+            total += n as u128 * if ci >= n_loops { 2 } else { 1 };
+            if ci < n_loops && !fixed[ci][ei] {
+                let cand = (!in_wall[ci][ei], e.curve.length() / n as f64, ci, ei);
+                if best_free.is_none_or(|b| cand >= b) {
+                    best_free = Some(cand);
+                }
+            }
+        }
     }
     if total > MAX_BOUNDARY_SEGMENTS as u128 {
         return Err(DomainError::Geometry(format!(
@@ -68,7 +88,7 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
     }
     if total % 2 == 1 {
         match best_free {
-            Some((_, ci, ei)) => counts[ci][ei] += 1,
+            Some((_, _, ci, ei)) => counts[ci][ei] += 1,
             None => {
                 let per: Vec<String> = domain
                     .chains()
@@ -82,7 +102,8 @@ pub fn segment_counts(domain: &Domain, size: f64) -> Result<Vec<Vec<usize>>, Dom
             }
         }
     }
-    Ok(counts)
+    let walled = in_wall.iter().flatten().filter(|&&w| w).count();
+    Ok((counts, walled))
 }
 
 /// The discretised input: the mesh skeleton (boundary nodes and edges) and
@@ -100,6 +121,9 @@ pub struct Discretised {
     pub cuts: Vec<Vec<u32>>,
     /// Whether a line ends on a loop or on another line (format 1.1).
     pub lines_meet: bool,
+    /// Edges of the input given one segment count with the edges they
+    /// face across a thin wall (see thin_walls.rs).
+    pub thin_wall_edges: usize,
 }
 
 /// One component to join: the closed rings and open paths of node ids of
@@ -204,16 +228,19 @@ fn chain_nodes(
 /// lines that reach the boundary or each other part the domain into
 /// regions, each region's loop is made even: a free edge of a loop round
 /// it (or of a line between two odd regions) gets one more segment.
-pub fn discretise(domain: &Domain, size: f64) -> Result<Discretised, DomainError> {
-    let mut counts = segment_counts(domain, size)?;
+pub fn discretise(domain: &Domain, size: f64, wall: f64) -> Result<Discretised, DomainError> {
+    let (mut counts, thin_wall_edges) = segment_counts(domain, size, wall)?;
     let (disc, faces, sources) = discretise_with(domain, size, &counts)?;
     if faces.iter().all(|f| f.len % 2 == 0) {
-        return Ok(disc);
+        return Ok(Discretised {
+            thin_wall_edges,
+            ..disc
+        });
     }
     even_regions(domain, &disc.mesh, &faces, &sources, &mut counts)?;
     let (disc, faces, _) = discretise_with(domain, size, &counts)?;
     match faces.iter().find(|f| f.len % 2 == 1) {
-        None => Ok(disc),
+        None => Ok(Discretised { thin_wall_edges, ..disc }),
         Some(f) => Err(DomainError::Geometry(format!(
             "a region of the domain has an odd number of boundary segments ({}): no all-quad mesh exists",
             f.len
@@ -350,6 +377,7 @@ fn discretise_with(
             front_loops,
             cuts,
             lines_meet,
+            thin_wall_edges: 0,
         },
         faces,
         sources,

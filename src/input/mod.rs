@@ -5,3 +5,4 @@ pub mod boundary;
 pub mod curves;
 pub mod domain;
 mod keys;
+mod thin_walls;

@@ -628,6 +628,7 @@ mod tests {
             front_loops: vec![front_loop],
             cuts: vec![],
             lines_meet: false,
+            thin_wall_edges: 0,
         };
         Mesher::new(kb, disc, size, area).unwrap()
     }

@@ -1,0 +1,224 @@
+//! Thin walls: two edges of the boundary that face each other across less
+//! than a few element sizes (a tube's two circles, a channel's flanges, a
+//! web) get the same segment count, so that the rules lay one structured
+//! row of elements between them instead of a transition squeezed into the
+//! wall (which leaves 45/135-degree parallelograms and slivers).
+//!
+//! The threshold is `bound(thin_wall, K)` in kb/strategy.pl: edges facing
+//! each other closer than K element sizes over most of their length.
+
+use glam::DVec2;
+
+use crate::input::boundary::min_arc_segments;
+use crate::input::domain::{Curve, Domain};
+
+/// Samples along an edge to tell how much of it faces another.
+const SAMPLES: usize = 16;
+
+/// Share of an edge's samples that must face the other edge.
+const FACING_SHARE: f64 = 0.8;
+
+/// The unit tangent of a curve at a point on it.
+fn tangent_at(c: &Curve, p: DVec2) -> DVec2 {
+    match *c {
+        Curve::Line { a, b } => (b - a).normalize_or_zero(),
+        Curve::Arc { a, b, bulge } => {
+            let (centre, ..) = Curve::arc_frame(a, b, bulge);
+            (p - centre).perp().normalize_or_zero() * bulge.signum()
+        }
+        Curve::Circle { center, .. } => (p - center).perp().normalize_or_zero(),
+    }
+}
+
+/// The share of `e`'s samples from which `f` is within `gap`, across (the
+/// way to it within 30 degrees of `e`'s normal) and running along `e`
+/// (their tangents within 30 degrees, either way round).
+fn facing_share(e: &Curve, f: &Curve, gap: f64) -> f64 {
+    let facing = (0..SAMPLES)
+        .filter(|&k| {
+            let t = (k as f64 + 0.5) / SAMPLES as f64;
+            let p = e.point_at(t);
+            let q = f.project(p);
+            let d = (q - p).length();
+            if d == 0.0 || d > gap {
+                return false;
+            }
+            let te = tangent_at(e, p);
+            ((q - p) / d).dot(te).abs() < 0.5 && te.dot(tangent_at(f, q)).abs() > 0.866
+        })
+        .count();
+    facing as f64 / SAMPLES as f64
+}
+
+/// Gives the edges of the domain's loops that face each other across a
+/// thin wall (closer than `wall` element sizes over most of both) one
+/// segment count per group of facing edges: a count fixed by the file if
+/// one has it, else the group's mean length over `size`. `fixed[c][e]`
+/// says whether the file fixes an edge's count. Returns, for each edge,
+/// whether it is in such a group.
+pub(crate) fn match_facing_counts(
+    domain: &Domain,
+    size: f64,
+    wall: f64,
+    fixed: &[Vec<bool>],
+    counts: &mut [Vec<usize>],
+) -> Vec<Vec<bool>> {
+    let mut in_wall: Vec<Vec<bool>> = counts.iter().map(|r| vec![false; r.len()]).collect();
+    if wall <= 0.0 {
+        return in_wall;
+    }
+    let gap = wall * size;
+    let loops = 1 + domain.holes.len();
+    // the loops' edges with their bounding boxes grown by the gap
+    let mut edges: Vec<(usize, usize, Curve, DVec2, DVec2)> = Vec::new();
+    for (ci, chain) in domain.chains().enumerate().take(loops) {
+        for (ei, e) in chain.edges.iter().enumerate() {
+            let pts = e.curve.divide(8);
+            let lo = pts.iter().fold(DVec2::splat(f64::MAX), |m, p| m.min(*p));
+            let hi = pts.iter().fold(DVec2::splat(f64::MIN), |m, p| m.max(*p));
+            edges.push((ci, ei, e.curve, lo - gap, hi + gap));
+        }
+    }
+    // pairs by a sweep over the boxes' left sides: near linear for the
+    // long boundaries of drawings
+    let mut order: Vec<usize> = (0..edges.len()).collect();
+    order.sort_by(|&i, &j| edges[i].3.x.total_cmp(&edges[j].3.x).then(i.cmp(&j)));
+    let mut parent: Vec<usize> = (0..edges.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut paired = vec![false; edges.len()];
+    for (k, &i) in order.iter().enumerate() {
+        for &j in &order[k + 1..] {
+            if edges[j].3.x > edges[i].4.x {
+                break;
+            }
+            let (a, b) = (&edges[i], &edges[j]);
+            if b.3.y > a.4.y || a.3.y > b.4.y {
+                continue;
+            }
+            // edges that meet at a corner face each other only there
+            let n = domain.chains().nth(a.0).map_or(0, |c| c.edges.len());
+            let adjacent = (a.1 + 1) % n == b.1 || (b.1 + 1) % n == a.1;
+            if a.0 == b.0 && adjacent {
+                continue;
+            }
+            if facing_share(&a.2, &b.2, gap) >= FACING_SHARE
+                && facing_share(&b.2, &a.2, gap) >= FACING_SHARE
+            {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+                paired[i] = true;
+                paired[j] = true;
+            }
+        }
+    }
+    // one count per group
+    let mut groups: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+    for i in (0..edges.len()).filter(|&i| paired[i]) {
+        groups.entry(root(&mut parent, i)).or_default().push(i);
+    }
+    for members in groups.values() {
+        let fixed_count = members
+            .iter()
+            .find(|&&i| fixed[edges[i].0][edges[i].1])
+            .map(|&i| counts[edges[i].0][edges[i].1]);
+        let target = fixed_count.unwrap_or_else(|| {
+            let mean =
+                members.iter().map(|&i| edges[i].2.length()).sum::<f64>() / members.len() as f64;
+            // no arc gets fewer chords than it needs to follow its curve
+            let fewest = members.iter().map(|&i| min_arc_segments(&edges[i].2)).max();
+            ((mean / size).round() as usize)
+                .max(fewest.unwrap_or(1))
+                .max(1)
+        });
+        for &i in members {
+            let (ci, ei) = (edges[i].0, edges[i].1);
+            if !fixed[ci][ei] {
+                counts[ci][ei] = target;
+            }
+            in_wall[ci][ei] = true;
+        }
+    }
+    in_wall
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::input::boundary::segment_counts;
+    use crate::input::domain::Domain;
+
+    fn domain(json: &str) -> Domain {
+        Domain::from_json_str(json).unwrap()
+    }
+
+    /// A tube: circles of radius 1 and 1 - t, each three arcs of 120 deg.
+    fn tube(t: f64) -> Domain {
+        let ring = |r: f64| {
+            let p: Vec<String> = (0..3)
+                .map(|k| {
+                    let a = k as f64 * 2.0 * std::f64::consts::PI / 3.0;
+                    format!("[{}, {}]", r * a.cos(), r * a.sin())
+                })
+                .collect();
+            format!(
+                "{{\"points\": [{}], \"bulges\": [0.57735, 0.57735, 0.57735]}}",
+                p.join(", ")
+            )
+        };
+        domain(&format!(
+            "{{\"size\": 0.1, \"outer\": {}, \"holes\": [{}]}}",
+            ring(1.0),
+            ring(1.0 - t)
+        ))
+    }
+
+    #[test]
+    fn a_tube_thinner_than_two_elements_gets_one_count_on_both_circles() {
+        // 0.14 thick at size 0.1: 21 segments an arc outside, 18 inside
+        let (counts, walled) = segment_counts(&tube(0.14), 0.1, 2.0).unwrap();
+        assert_eq!(walled, 6);
+        assert_eq!(counts[0], counts[1], "{counts:?}");
+        // switched off, each circle keeps its own count
+        let (counts, walled) = segment_counts(&tube(0.14), 0.1, 0.0).unwrap();
+        assert_eq!(walled, 0);
+        assert_eq!((counts[0][0], counts[1][0]), (21, 18));
+    }
+
+    #[test]
+    fn a_thick_tube_and_a_plain_plate_keep_their_counts() {
+        let (counts, walled) = segment_counts(&tube(0.5), 0.1, 2.0).unwrap();
+        assert_eq!(walled, 0);
+        assert_ne!(counts[0], counts[1]);
+        let plate =
+            domain(r#"{"size": 0.1, "outer": {"points": [[0,0],[2.04,0],[2.04,0.96],[0,0.96]]}}"#);
+        let (counts, walled) = segment_counts(&plate, 0.1, 2.0).unwrap();
+        assert_eq!(walled, 0);
+        assert_eq!(counts[0], vec![20, 10, 20, 10]);
+    }
+
+    #[test]
+    fn a_channels_flanges_and_web_face_their_inner_sides_and_the_total_stays_even() {
+        // a C of wall 0.13 at size 0.1: its inner sides are 0.13 shorter
+        // at each corner (flanges 2.0 and 1.87, web 1.2 and 0.94)
+        let c = domain(
+            r#"{"size": 0.1, "outer": {"points": [[0,0],[2,0],[2,0.13],[0.13,0.13],[0.13,1.07],[2,1.07],[2,1.2],[0,1.2]]}}"#,
+        );
+        let (counts, walled) = segment_counts(&c, 0.1, 2.0).unwrap();
+        let o = &counts[0];
+        assert_eq!(walled, 6, "{o:?}");
+        assert_eq!((o[0], o[6]), (o[2], o[4]), "flanges: {o:?}");
+        assert_eq!(o[7], o[3], "web: {o:?}");
+        assert_eq!(o.iter().sum::<usize>() % 2, 0);
+        // a count the file fixes is the wall's count
+        let fixed = domain(
+            r#"{"size": 0.1, "outer": {"points": [[0,0],[2,0],[2,0.13],[0.13,0.13],[0.13,1.07],[2,1.07],[2,1.2],[0,1.2]], "segments": [24, 0, 0, 0, 0, 0, 0, 0]}}"#,
+        );
+        let (counts, _) = segment_counts(&fixed, 0.1, 2.0).unwrap();
+        assert_eq!(counts[0][2], 24, "{:?}", counts[0]);
+    }
+}
