@@ -79,6 +79,10 @@ strategy([tip, b4, b5, b3, b2, b1]).
 %   into it before the open loops are meshed by triangles.
 % fallback_spacing: the spacing of those triangles' interior points, in
 %   element sizes (each triangle is split into three quads).
+% ring_corner_give: a ring closing a stuck loop may have a smallest
+%   corner this many deg below the best ring's, for sizes within
+%   max_size_jump of its neighbours (tiny elements amid large ones are
+%   size jumps smoothing cannot even out).
 % thin_wall: two edges of the boundary facing each other closer than this
 %   many element sizes over most of their length get one segment count,
 %   so that one structured row of elements fills the wall between them
@@ -108,4 +112,5 @@ bound(relation_reach, 1).
 bound(centre_search_below, 30).
 bound(fallback_take_back, 0.25).
 bound(fallback_spacing, 1.5).
+bound(ring_corner_give, 10).
 bound(thin_wall, 2).

@@ -210,6 +210,9 @@ pub struct HostBounds {
     /// `fallback_spacing`: the spacing of the interior points of the open
     /// loops' triangles, in element sizes.
     pub fallback_spacing: f64,
+    /// `ring_corner_give`: how many degrees of its smallest corner a ring
+    /// (fallback/rings.rs) gives up for sizes that fit its neighbours.
+    pub ring_corner_give: f64,
     /// `thin_wall`: edges facing each other closer than this many element
     /// sizes get one segment count (see input/thin_walls.rs).
     pub thin_wall: f64,
@@ -219,7 +222,7 @@ impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
         HostBounds::new([
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 2.0,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -227,7 +230,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 12] = [
+    pub const NAMES: [&'static str; 13] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -239,14 +242,15 @@ impl HostBounds {
         "tip_corner",
         "fallback_take_back",
         "fallback_spacing",
+        "ring_corner_give",
         "thin_wall",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 12]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, thin_wall] =
+    pub fn new(v: [f64; 13]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -260,6 +264,7 @@ impl HostBounds {
             (0.0, 90.0),
             (0.0, f64::MAX),
             (0.1, f64::MAX),
+            (0.0, 90.0),
             (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
@@ -283,6 +288,7 @@ impl HostBounds {
             tip_corner,
             fallback_take_back,
             fallback_spacing,
+            ring_corner_give,
             thin_wall,
         })
     }
@@ -320,7 +326,7 @@ mod tests {
     #[test]
     fn a_negative_reach_is_refused() {
         let mut v = [
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 2.0,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0,
         ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();

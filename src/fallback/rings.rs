@@ -1,20 +1,45 @@
 //! Rings: a small loop no chord splits well gets a ring of elements round
 //! a new convex loop inside it, which the final patterns or a chord close.
+//!
+//! Of the rings whose smallest corner is near the best a search finds,
+//! the one whose sizes fit best is kept: its elements against each other,
+//! against the elements outside the loop and against those that will
+//! close the inner loop. A ring judged by its corners alone may put tiny
+//! elements in the middle of large ones (size jumps past the bound that
+//! smoothing, held by the corner window, cannot even out).
 
 use glam::DVec2;
 
-use crate::geometry::orient2d;
+use crate::geometry::{orient2d, polygon_area};
 use crate::mesh::NodeKind;
 use crate::partial_mesh::{Closing, PartialMesh};
 use crate::report::trace::{Angles, By};
 use crate::validity::{convex_angles, distinct, quad_clear};
+
+/// What a ring's search weighs: the shortest edge it may make, the size
+/// jump aimed for (`bound(max_size_jump, _)`) and how many degrees of its
+/// smallest corner it gives for sizes within it (`bound(ring_corner_give,
+/// _)`).
+pub struct RingAims {
+    pub min_edge: f64,
+    pub max_size_jump: f64,
+    pub corner_give: f64,
+}
 
 /// The last resort for a loop the rules and chords cannot mesh: a
 /// ring of n elements round a new convex loop of n nodes on a circle
 /// about a centre that sees every node of the loop. The inner loop is
 /// convex whatever the loop's shape, so the final patterns or a chord
 /// close it.
-pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
+/// With `sizes_fit`, only a ring whose size jumps are within the bound:
+/// else a loop far smaller than the elements round it gets tiny elements
+/// (taking back the elements round it may give it room instead).
+pub fn close_ring(
+    pm: &mut PartialMesh,
+    l: u32,
+    max_size_jump: f64,
+    sizes_fit: bool,
+) -> Option<u32> {
     let fvs = pm.front.loop_fvs(l);
     let n = fvs.len();
     let ids: Vec<u32> = fvs.iter().map(|&f| pm.front.node(f)).collect();
@@ -22,45 +47,148 @@ pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
         return None;
     }
     let p: Vec<DVec2> = ids.iter().map(|&i| pm.mesh.nodes[i as usize]).collect();
-    // The centre and radius: the best of a grid over the loop's box,
-    // judged by the smallest angle of the ring's elements.
-    // a quarter of the rules' minimum: a ring may be finer than the
-    // elements round it, but rings in rings cannot shrink for ever
-    // (a loop of four gets a ring round a convex four, closed at once:
-    // no nesting, so its ring may go finer)
-    let min_edge = pm.min_edge / if n == 4 { 32.0 } else { 4.0 };
-    // the ring's elements, judged by their smallest angle; None too
-    // once it is sure to be no better than `floor` (the best so far)
-    let judge = |inner: Vec<DVec2>, floor: f64| -> Option<(f64, Vec<DVec2>)> {
+    // the element outside each edge of the loop (None on the boundary):
+    // it runs the edge the other way
+    let owners = pm.edge_owners();
+    let outside_of: Vec<Option<u32>> = (0..n)
+        .map(|i| owners.get(&(ids[(i + 1) % n], ids[i])).copied())
+        .collect();
+    let outside: Vec<Option<f64>> = outside_of
+        .iter()
+        .map(|o| o.map(|q| polygon_area(&pm.mesh.quad_points(q as usize)).abs()))
+        .collect();
+    let aims = RingAims {
+        // a quarter of the rules' minimum: a ring may be finer than the
+        // elements round it, but rings in rings cannot shrink for ever
+        // (a loop of four gets a ring round a convex four, closed at once:
+        // no nesting, so its ring may go finer)
+        min_edge: pm.min_edge / if n == 4 { 32.0 } else { 4.0 },
+        max_size_jump,
+        corner_give: pm.host.ring_corner_give,
+    };
+    let (inner, jump) = best_ring(&p, &outside, &aims)?;
+    if sizes_fit && jump > max_size_jump {
+        return None;
+    }
+    for i in 0..n {
+        let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
+        if !quad_clear(
+            pm,
+            q,
+            &[Some(ids[i]), Some(ids[(i + 1) % n]), None, None],
+            0.0,
+        ) {
+            return None;
+        }
+    }
+    let base = pm.mesh.nodes.len() as u32;
+    for &x in &inner {
+        pm.mesh.add_node(x, NodeKind::Interior);
+    }
+    let qs: Vec<[u32; 4]> = (0..n)
+        .map(|i| {
+            [
+                ids[i],
+                ids[(i + 1) % n],
+                base + ((i + 1) % n) as u32,
+                base + i as u32,
+            ]
+        })
+        .collect();
+    let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
+    pm.stats.fallback_splits += 1;
+    pm.stats.rings += 1;
+    let layer = pm.front.layer(fvs[0]) + 1;
+    pm.close_with(
+        l,
+        qs,
+        &[],
+        Closing {
+            feature: "stuck",
+            action: "ring".into(),
+            angles: Angles::default(),
+            by: By::Ring,
+        },
+    );
+    pm.front.begin();
+    let nl = pm.front.add_loop(&inner_ids, &vec![layer; n]);
+    pm.front.commit(&pm.mesh.nodes);
+    Some(nl)
+}
+
+/// A ring the search tried: its smallest corner (degrees from 0 or 180),
+/// its largest size jump and its inner nodes.
+struct Tried {
+    corner: f64,
+    jump: f64,
+    inner: Vec<DVec2>,
+}
+
+/// The inner nodes of the best ring inside the loop `p` (counter-
+/// clockwise; `outside[i]`: the area of the element across edge i, if
+/// any): the best of a grid of centres over the loop's box and of rings
+/// along the corners' bisectors. Of the rings whose smallest corner is
+/// within `aims.corner_give` of the best, the one with the smallest size
+/// jump (any within the bound as good as another), then the best corner.
+/// Returns its inner nodes and its largest size jump.
+pub fn best_ring(
+    p: &[DVec2],
+    outside: &[Option<f64>],
+    aims: &RingAims,
+) -> Option<(Vec<DVec2>, f64)> {
+    let n = p.len();
+    // the elements closing the inner loop: a loop of n nodes and no
+    // inner one is closed by (n - 2) / 2 elements
+    let closing = ((n as f64 - 2.0) / 2.0).max(1.0);
+    let jump = |a: f64, b: f64| (a / b).max(b / a).sqrt();
+    // the ring's elements, judged by their smallest angle and their size
+    // jumps; None too once its corner is sure to be below `floor`
+    let judge = |inner: Vec<DVec2>, floor: f64| -> Option<Tried> {
         if (0..n).any(|i| orient2d(inner[i], inner[(i + 1) % n], inner[(i + 2) % n]) <= 0.0) {
             return None;
         }
         // no edge below the run's minimum: rings inside rings would
         // otherwise shrink without end
         if (0..n).any(|i| {
-            (inner[(i + 1) % n] - inner[i]).length() < min_edge
-                || (inner[i] - p[i]).length() < min_edge
+            (inner[(i + 1) % n] - inner[i]).length() < aims.min_edge
+                || (inner[i] - p[i]).length() < aims.min_edge
         }) {
             return None;
         }
-        let mut worst = f64::MAX;
+        let mut corner = f64::MAX;
+        let mut areas = Vec::with_capacity(n);
         for i in 0..n {
             let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
             let angles = convex_angles(&q)?;
-            worst = worst.min(
+            corner = corner.min(
                 angles
                     .iter()
                     .map(|&x| x.min(180.0 - x))
                     .fold(f64::MAX, f64::min),
             );
-            if worst <= floor {
+            if corner < floor {
                 return None;
             }
+            areas.push(polygon_area(&q));
         }
-        Some((worst, inner))
+        let middle = polygon_area(&inner) / closing;
+        let mut worst = 1.0f64;
+        for i in 0..n {
+            worst = worst
+                .max(jump(areas[i], areas[(i + 1) % n]))
+                .max(jump(areas[i], middle));
+            if let Some(o) = outside[i] {
+                worst = worst.max(jump(areas[i], o.max(1e-300)));
+            }
+        }
+        Some(Tried {
+            corner,
+            jump: worst,
+            inner,
+        })
     };
     // inner nodes on a circle round a centre c
-    let ring = |c: DVec2, t: f64, floor: f64| -> Option<(f64, Vec<DVec2>)> {
+    let ring = |c: DVec2, t: f64, floor: f64| -> Option<Tried> {
         let rmax = p.iter().map(|&x| (x - c).length()).fold(f64::MAX, f64::min);
         if rmax <= 0.0 {
             return None;
@@ -75,7 +203,7 @@ pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
     // or each inner node in from its loop node along the bisector of
     // the loop's corner there: a loop with a reflex or flat corner
     // (no centre sees it well) gets its ring this way
-    let bisector_ring = |t: f64, floor: f64| -> Option<(f64, Vec<DVec2>)> {
+    let bisector_ring = |t: f64, floor: f64| -> Option<Tried> {
         judge(
             (0..n)
                 .map(|i| {
@@ -90,69 +218,91 @@ pub fn close_ring(pm: &mut PartialMesh, l: u32) -> Option<u32> {
     };
     let lo = p.iter().fold(DVec2::splat(f64::MAX), |a, &b| a.min(b));
     let hi = p.iter().fold(DVec2::splat(f64::MIN), |a, &b| a.max(b));
-    let mut best: Option<(f64, Vec<DVec2>)> = None;
-    let floor = |best: &Option<(f64, Vec<DVec2>)>| best.as_ref().map_or(f64::NEG_INFINITY, |b| b.0);
+    // every ring near the best corner so far
+    let mut tried: Vec<Tried> = Vec::new();
+    let mut best_corner = f64::NEG_INFINITY;
+    let mut keep = |r: Option<Tried>, best_corner: &mut f64| {
+        if let Some(r) = r {
+            *best_corner = best_corner.max(r.corner);
+            tried.push(r);
+        }
+    };
     let steps = 48;
     for ix in 1..steps {
         for iy in 1..steps {
             let c = lo + (hi - lo) * DVec2::new(ix as f64 / steps as f64, iy as f64 / steps as f64);
             for t in [0.25, 0.5, 0.75] {
-                if let Some(r) = ring(c, t, floor(&best)) {
-                    best = Some(r);
-                }
+                let r = ring(c, t, best_corner - aims.corner_give);
+                keep(r, &mut best_corner);
             }
         }
     }
     for t in [0.2, 0.35, 0.5] {
-        if let Some(r) = bisector_ring(t, floor(&best)) {
-            best = Some(r);
-        }
+        let r = bisector_ring(t, best_corner - aims.corner_give);
+        keep(r, &mut best_corner);
     }
-    if let Some((_, inner)) = best {
-        for i in 0..n {
-            let q = [p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]];
-            if !quad_clear(
-                pm,
-                q,
-                &[Some(ids[i]), Some(ids[(i + 1) % n]), None, None],
-                0.0,
-            ) {
-                return None;
+    let within = |j: f64| j.max(aims.max_size_jump);
+    tried
+        .into_iter()
+        .filter(|r| r.corner >= best_corner - aims.corner_give)
+        .reduce(|a, b| {
+            let better = within(b.jump) < within(a.jump)
+                || (within(b.jump) == within(a.jump) && b.corner > a.corner);
+            if better {
+                b
+            } else {
+                a
             }
+        })
+        .map(|r| (r.inner, r.jump))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed sequence of numbers in [0, 1) from `seed`.
+    fn noise(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
         }
-        let base = pm.mesh.nodes.len() as u32;
-        for &x in &inner {
-            pm.mesh.add_node(x, NodeKind::Interior);
-        }
-        let qs: Vec<[u32; 4]> = (0..n)
-            .map(|i| {
-                [
-                    ids[i],
-                    ids[(i + 1) % n],
-                    base + ((i + 1) % n) as u32,
-                    base + i as u32,
-                ]
-            })
-            .collect();
-        let inner_ids: Vec<u32> = (0..n as u32).map(|i| base + i).collect();
-        pm.stats.fallback_splits += 1;
-        pm.stats.rings += 1;
-        let layer = pm.front.layer(fvs[0]) + 1;
-        pm.close_with(
-            l,
-            qs,
-            &[],
-            Closing {
-                feature: "stuck",
-                action: "ring".into(),
-                angles: Angles::default(),
-                by: By::Ring,
-            },
-        );
-        pm.front.begin();
-        let nl = pm.front.add_loop(&inner_ids, &vec![layer; n]);
-        pm.front.commit(&pm.mesh.nodes);
-        return Some(nl);
     }
-    None
+
+    fn jump_of(p: &[DVec2], outside: &[Option<f64>], give: f64) -> f64 {
+        let aims = RingAims {
+            min_edge: 1e-3,
+            max_size_jump: 2.0,
+            corner_give: give,
+        };
+        best_ring(p, outside, &aims).expect("a ring").1
+    }
+
+    #[test]
+    fn a_ring_gives_a_few_degrees_for_sizes_that_fit_its_neighbours() {
+        // uneven hexagons (one side on the boundary), the elements round
+        // them as large as half the loop: the ring judged by its corners
+        // alone puts elements too small among them
+        let mut next = noise(11);
+        let (mut fitted, mut tried) = (0, 0);
+        for _ in 0..60 {
+            let p: Vec<DVec2> = (0..6)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * (i as f64 + 0.6 * next() - 0.3) / 6.0;
+                    DVec2::from_angle(a) * (0.6 + 0.8 * next())
+                })
+                .collect();
+            let area = polygon_area(&p);
+            let outside: Vec<Option<f64>> =
+                (0..6).map(|i| (i != 0).then_some(area / 2.0)).collect();
+            let (by_corner, by_size) = (jump_of(&p, &outside, 0.0), jump_of(&p, &outside, 10.0));
+            tried += 1;
+            // never further past the bound than the corners' choice
+            assert!(by_size.max(2.0) <= by_corner.max(2.0) + 1e-12);
+            fitted += usize::from(by_corner > 2.0 && by_size <= 2.0);
+        }
+        assert!(fitted >= 3, "{fitted} of {tried} brought within the bound");
+    }
 }

@@ -559,17 +559,24 @@ impl<'k> Mesher<'k> {
     }
 
     /// One loop the rules are stuck on, to the fallbacks: a clear chord
-    /// first, a tight one if there is none, then a ring; else the
-    /// elements along it taken back to give it room; last, any chord at
-    /// all (bounded: it may not shrink the loop).
+    /// first, a tight one if there is none, then a ring whose sizes fit
+    /// the elements round it; else the elements along it taken back to
+    /// give it room; then any ring; last, any chord at all (bounded: it
+    /// may not shrink the loop).
     fn fallback_split(&mut self, l: u32) -> Result<bool, MeshError> {
-        if self.chord_split(l, 1.0, true)? || self.chord_split(l, 0.2, true)? || self.close_ring(l)
+        if self.chord_split(l, 1.0, true)?
+            || self.chord_split(l, 0.2, true)?
+            || self.close_ring(l, true)
         {
             return Ok(true);
         }
         // taking back is costly (the rules mesh the region again): a small
         // budget, the open-loop fallback closes what it leaves
         if self.pm.stats.unmeshed < self.pm.max_elements / 32 && self.unmesh_layer(l)? {
+            return Ok(true);
+        }
+        // a ring whose sizes do not fit is better than none
+        if self.close_ring(l, false) {
             return Ok(true);
         }
         if self.pm.stats.fallback_splits < self.pm.max_elements / 4 {
@@ -586,8 +593,10 @@ impl<'k> Mesher<'k> {
         Ok(true)
     }
 
-    fn close_ring(&mut self, l: u32) -> bool {
-        let Some(inner) = rings::close_ring(&mut self.pm, l) else {
+    /// A ring in loop `l`; with `sizes_fit`, only one whose sizes fit.
+    fn close_ring(&mut self, l: u32, sizes_fit: bool) -> bool {
+        let jump = self.set.element.max_size_jump;
+        let Some(inner) = rings::close_ring(&mut self.pm, l, jump, sizes_fit) else {
             return false;
         };
         self.queue.ensure_capacity(&self.pm.front);
