@@ -7,8 +7,6 @@
 
 use std::time::Instant;
 
-use glam::DVec2;
-
 use crate::cleanup;
 use crate::fallback::triangles::{mesh_by_triangles, FallbackError};
 use crate::features::FrontFeatures;
@@ -514,14 +512,6 @@ impl<'k> Run<'k> {
         Ok(r)
     }
 
-    /// The input vertices: boundary nodes that never move.
-    fn fixed_nodes(&self) -> Vec<DVec2> {
-        self.domain
-            .chains()
-            .flat_map(crate::input::curves::chain_vertices)
-            .collect()
-    }
-
     fn finish_run(&mut self) -> Result<MeshResult, Error> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let reason = match self.stopped.take() {
@@ -530,14 +520,7 @@ impl<'k> Run<'k> {
                 let bounds = self.mesher.settings().element;
                 let outcome = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
-                match finish_mesh(
-                    outcome,
-                    &self.fixed_nodes(),
-                    &bounds,
-                    &self.opts,
-                    self.kb_before,
-                    kb_after,
-                ) {
+                match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {
                     Ok(mut r) => {
                         r.phases.prepare = self.prepare;
                         r.phases.recursion = recursion;
@@ -614,14 +597,7 @@ impl<'k> Run<'k> {
                 element: vec![],
             });
         }
-        match finish_mesh(
-            outcome,
-            &self.fixed_nodes(),
-            &bounds,
-            &self.opts,
-            self.kb_before,
-            kb_after,
-        ) {
+        match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {
             Ok(mut r) => {
                 r.phases.prepare = self.prepare;
                 r.phases.recursion = recursion;
@@ -668,14 +644,7 @@ impl<'k> Run<'k> {
             stats,
             area,
         };
-        let mut r = finish_mesh(
-            outcome,
-            &self.fixed_nodes(),
-            &bounds,
-            &self.opts,
-            self.kb_before,
-            kb_stats,
-        )?;
+        let mut r = finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_stats)?;
         r.phases.prepare = self.prepare;
         r.phases.recursion = recursion;
         r.stopped_short = Some(stopped_short);
@@ -719,7 +688,6 @@ fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Ve
 /// The stages after the recursion: smoothing, clean-up, check, quality.
 fn finish_mesh(
     outcome: Outcome,
-    fixed: &[DVec2],
     bounds: &ElementBounds,
     opts: &Options,
     kb_before: KbStats,
@@ -736,11 +704,6 @@ fn finish_mesh(
     compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     let t0 = Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds);
-    // corners next to the boundary that moving interior nodes cannot mend
-    let slid = smoothing::slide_boundary_nodes(&mut mesh, fixed, bounds);
-    if !slid.is_empty() {
-        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &slid, bounds);
-    }
     // where smoothing could not reach the bounds: the elements joined
     // up anew and the nodes round the changes smoothed again, a few
     // times while that changes something (the smoothing after a change

@@ -3,13 +3,11 @@
 //! (`untangle.rs`), evening out of sizes and shapes (`sizes.rs`), all by
 //! the compass search (`compass.rs`) where Laplace does not reach, a
 //! large mesh in strips on all cores (`strips.rs`); `stage.rs` runs them
-//! in turn. Boundary nodes slide along their curves where a corner next to
-//! them is outside the window (`slide.rs`); input vertices never move.
+//! in turn. Input boundary nodes never move.
 
 mod compass;
 mod laplace;
 mod sizes;
-mod slide;
 mod stage;
 mod strips;
 mod untangle;
@@ -18,5 +16,4 @@ mod untangle;
 pub(crate) mod tests;
 
 pub use compass::compass_search_steps;
-pub use slide::slide_boundary_nodes;
 pub use stage::{smooth, smooth_near};
