@@ -3,11 +3,13 @@
 //! outer loop by cutting lines so that one loop remains.
 
 use glam::DVec2;
+use rustc_hash::FxHashMap;
 
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::input::thin_walls::match_facing_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
+use crate::settings::ElementBounds;
 
 /// The fewest segments a curve may have: one per 60 deg of arc.
 pub(crate) fn min_arc_segments(c: &Curve) -> usize {
@@ -369,7 +371,10 @@ fn discretise_with(
     }
     let comps = components(&chains);
     let lines_meet = comps.iter().any(|c| !c.junctions.is_empty());
-    let cuts = join_components(&mut mesh, &comps, size)?;
+    // a cut's segments within the paper's size jump of the input segments
+    // at its ends, as far as a cut allows
+    let jump = ElementBounds::default().max_size_jump;
+    let cuts = join_components(&mut mesh, &comps, size, jump)?;
     let (front_loops, faces) = trace_faces(&mesh, 1 + domain.holes.len() as u32, &cuts);
     Ok((
         Discretised {
@@ -499,6 +504,7 @@ fn join_components(
     mesh: &mut Mesh,
     comps: &[Component],
     size: f64,
+    jump: f64,
 ) -> Result<Vec<Vec<u32>>, DomainError> {
     let n = comps.len();
     // All input segments, for the crossing tests of candidate cuts.
@@ -513,6 +519,22 @@ fn join_components(
             }
         }
     }
+    // The shortest input segment at each node: a cut's segments (about
+    // `size` long) next to much shorter ones would start the mesh with a
+    // size jump there (the sharp trailing edge of a blade).
+    let mut shortest_at: FxHashMap<u32, f64> = FxHashMap::default();
+    for &(a, b, na, nb) in &segs {
+        let l = (b - a).length();
+        for x in [na, nb] {
+            let e = shortest_at.entry(x).or_insert(f64::INFINITY);
+            *e = e.min(l);
+        }
+    }
+    let grade = |node: u32, len: f64| -> f64 {
+        let seg = len / ((len / size).round().max(1.0));
+        let local = shortest_at.get(&node).copied().unwrap_or(f64::INFINITY);
+        (seg / (jump * local)).max(1.0)
+    };
     let mut joined = vec![false; n];
     joined[0] = true;
     let mut used = std::collections::HashSet::new();
@@ -563,7 +585,7 @@ fn join_components(
                 }
             }
             cands.sort_by(order);
-            let (best, ended) = best_cut(mesh, comps, &segs, &cut_segs, &used, &cands);
+            let (best, ended) = best_cut(mesh, comps, &segs, &cut_segs, &used, &cands, &grade);
             // a candidate past the list is longer than its limit: it cannot
             // beat a cut whose score is within it
             if ended || all_listed || best.is_some_and(|b| b.0 <= shortest + margin) {
@@ -681,6 +703,7 @@ fn best_cut(
     cut_segs: &[(DVec2, DVec2)],
     used: &std::collections::HashSet<u32>,
     cands: &[(f64, u32, u32, usize, usize)],
+    grade: &dyn Fn(u32, f64) -> f64,
 ) -> (Option<(f64, u32, u32, usize)>, bool) {
     let mut best: Option<(f64, u32, u32, usize)> = None;
     let mut checked = 0;
@@ -714,10 +737,39 @@ fn best_cut(
         }
         // Shorter is better; a cut meeting a wall at a slant is worse.
         let q = qv.min(qu).min(std::f64::consts::FRAC_PI_2);
-        let score = len / q.sin();
+        // A cut whose segments would be more than `jump` times the
+        // input segments at an end is worse by that much.
+        let score = len / q.sin() * grade(u, len).max(grade(v, len));
         if best.is_none_or(|b| score < b.0) {
             best = Some((score, v, u, ci));
         }
     }
     (best, false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::discretise;
+    use crate::input::domain::Domain;
+
+    /// A cut does not start at a sharp tip whose input segments are far
+    /// shorter than the cut's (a blade's trailing edge next to the outer
+    /// loop), though it is the shortest way out.
+    #[test]
+    fn a_cut_leaves_a_hole_away_from_its_short_segments() {
+        let domain = Domain::from_json_str(
+            r#"{"size": 0.2,
+                "outer": {"points": [[-3, -3], [3, -3], [3, 3], [-3, 3]]},
+                "holes": [{"points": [[2.5, 0], [2.49, 0.003], [0, 0.5], [-1, 0],
+                                      [0, -0.5], [2.49, -0.003]]}]}"#,
+        )
+        .unwrap();
+        let disc = discretise(&domain, 0.2, 0.0).unwrap();
+        assert_eq!(disc.cuts.len(), 1);
+        let tip = glam::DVec2::new(2.5, 0.0);
+        for end in [disc.cuts[0][0], *disc.cuts[0].last().unwrap()] {
+            let p = disc.mesh.nodes[end as usize];
+            assert!((p - tip).length() > 0.05, "the cut ends at {p} by the tip");
+        }
+    }
 }
