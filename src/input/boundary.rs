@@ -6,22 +6,11 @@ use glam::DVec2;
 use rustc_hash::FxHashMap;
 
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
+use crate::input::curves::min_arc_segments;
 use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::input::thin_walls::match_facing_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 use crate::settings::ElementBounds;
-
-/// The fewest segments a curve may have: one per 60 deg of arc.
-pub(crate) fn min_arc_segments(c: &Curve) -> usize {
-    let sweep = match *c {
-        Curve::Line { .. } => return 1,
-        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
-        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
-    };
-    (sweep / (std::f64::consts::PI / 3.0) - 1e-9)
-        .ceil()
-        .max(1.0) as usize
-}
 
 /// The segment count of every edge of every chain (outer, holes, lines in
 /// that order), with an even total: edges facing each other across a wall

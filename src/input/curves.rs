@@ -143,6 +143,18 @@ impl Curve {
     }
 }
 
+/// The fewest segments a curve may have: one per 60 deg of arc.
+pub(crate) fn min_arc_segments(c: &Curve) -> usize {
+    let sweep = match *c {
+        Curve::Line { .. } => return 1,
+        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
+        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
+    };
+    (sweep / (std::f64::consts::PI / 3.0) - 1e-9)
+        .ceil()
+        .max(1.0) as usize
+}
+
 /// An edge of a loop or line with its optional fixed segment count and tag.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Edge {

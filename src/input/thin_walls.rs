@@ -9,7 +9,7 @@
 
 use glam::DVec2;
 
-use crate::input::boundary::min_arc_segments;
+use crate::input::curves::min_arc_segments;
 use crate::input::domain::{Curve, Domain};
 
 /// Samples along an edge to tell how much of it faces another.
@@ -145,80 +145,4 @@ pub(crate) fn match_facing_counts(
         }
     }
     in_wall
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::input::boundary::segment_counts;
-    use crate::input::domain::Domain;
-
-    fn domain(json: &str) -> Domain {
-        Domain::from_json_str(json).unwrap()
-    }
-
-    /// A tube: circles of radius 1 and 1 - t, each three arcs of 120 deg.
-    fn tube(t: f64) -> Domain {
-        let ring = |r: f64| {
-            let p: Vec<String> = (0..3)
-                .map(|k| {
-                    let a = k as f64 * 2.0 * std::f64::consts::PI / 3.0;
-                    format!("[{}, {}]", r * a.cos(), r * a.sin())
-                })
-                .collect();
-            format!(
-                "{{\"points\": [{}], \"bulges\": [0.57735, 0.57735, 0.57735]}}",
-                p.join(", ")
-            )
-        };
-        domain(&format!(
-            "{{\"size\": 0.1, \"outer\": {}, \"holes\": [{}]}}",
-            ring(1.0),
-            ring(1.0 - t)
-        ))
-    }
-
-    #[test]
-    fn a_tube_thinner_than_two_elements_gets_one_count_on_both_circles() {
-        // 0.14 thick at size 0.1: 21 segments an arc outside, 18 inside
-        let (counts, walled) = segment_counts(&tube(0.14), 0.1, 2.0).unwrap();
-        assert_eq!(walled, 6);
-        assert_eq!(counts[0], counts[1], "{counts:?}");
-        // switched off, each circle keeps its own count
-        let (counts, walled) = segment_counts(&tube(0.14), 0.1, 0.0).unwrap();
-        assert_eq!(walled, 0);
-        assert_eq!((counts[0][0], counts[1][0]), (21, 18));
-    }
-
-    #[test]
-    fn a_thick_tube_and_a_plain_plate_keep_their_counts() {
-        let (counts, walled) = segment_counts(&tube(0.5), 0.1, 2.0).unwrap();
-        assert_eq!(walled, 0);
-        assert_ne!(counts[0], counts[1]);
-        let plate =
-            domain(r#"{"size": 0.1, "outer": {"points": [[0,0],[2.04,0],[2.04,0.96],[0,0.96]]}}"#);
-        let (counts, walled) = segment_counts(&plate, 0.1, 2.0).unwrap();
-        assert_eq!(walled, 0);
-        assert_eq!(counts[0], vec![20, 10, 20, 10]);
-    }
-
-    #[test]
-    fn a_channels_flanges_and_web_face_their_inner_sides_and_the_total_stays_even() {
-        // a C of wall 0.13 at size 0.1: its inner sides are 0.13 shorter
-        // at each corner (flanges 2.0 and 1.87, web 1.2 and 0.94)
-        let c = domain(
-            r#"{"size": 0.1, "outer": {"points": [[0,0],[2,0],[2,0.13],[0.13,0.13],[0.13,1.07],[2,1.07],[2,1.2],[0,1.2]]}}"#,
-        );
-        let (counts, walled) = segment_counts(&c, 0.1, 2.0).unwrap();
-        let o = &counts[0];
-        assert_eq!(walled, 6, "{o:?}");
-        assert_eq!((o[0], o[6]), (o[2], o[4]), "flanges: {o:?}");
-        assert_eq!(o[7], o[3], "web: {o:?}");
-        assert_eq!(o.iter().sum::<usize>() % 2, 0);
-        // a count the file fixes is the wall's count
-        let fixed = domain(
-            r#"{"size": 0.1, "outer": {"points": [[0,0],[2,0],[2,0.13],[0.13,0.13],[0.13,1.07],[2,1.07],[2,1.2],[0,1.2]], "segments": [24, 0, 0, 0, 0, 0, 0, 0]}}"#,
-        );
-        let (counts, _) = segment_counts(&fixed, 0.1, 2.0).unwrap();
-        assert_eq!(counts[0][2], 24, "{:?}", counts[0]);
-    }
 }

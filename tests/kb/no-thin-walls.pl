@@ -1,0 +1,2 @@
+% Facing edges keep their own segment counts, however thin the wall.
+bound(thin_wall, 0).
