@@ -371,13 +371,9 @@ mod tests {
     use crate::mesh::NodeKind;
 
     /// A fixed sequence of numbers in [-0.5, 0.5) from `seed`.
-    fn noise(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
+    fn noise(seed: u64) -> impl FnMut() -> f64 {
+        let mut unit = crate::geometry::test_noise(seed);
+        move || unit() - 0.5
     }
 
     /// How far the worst corner of the mesh is past [45, 135] (degrees).

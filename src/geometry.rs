@@ -248,3 +248,15 @@ mod tests {
         assert!(quad_is_convex(q));
     }
 }
+
+/// A fixed sequence of numbers in [0, 1) from `seed`, for tests that
+/// perturb shapes the same way on every machine.
+#[cfg(test)]
+pub(crate) fn test_noise(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

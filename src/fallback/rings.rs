@@ -261,15 +261,7 @@ pub fn best_ring(
 mod tests {
     use super::*;
 
-    /// A fixed sequence of numbers in [0, 1) from `seed`.
-    fn noise(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::geometry::test_noise as noise;
 
     fn jump_of(p: &[DVec2], outside: &[Option<f64>], give: f64) -> f64 {
         let aims = RingAims {
