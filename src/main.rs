@@ -575,8 +575,9 @@ fn mesh_one(
         }
         let ph = &result.phases;
         eprintln!(
-            "{}: prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (engine start, reading, writing) {:.3} s",
+            "{}: engine start {:.3} s (before the run: built, rules consulted); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
             domain.name(),
+            kb.load_time().as_secs_f64(),
             ph.prepare,
             ph.recursion,
             ph.smoothing,

@@ -31,6 +31,10 @@ pub const BUILTIN_KB: &[(&str, &str)] = &[
 
 const LOADER: &str = include_str!("loader.pl");
 
+/// What a user's rules need (a file read clause by clause, a REPL query):
+/// consulted the first time one comes in, not by every run.
+const USER_LOADER: &str = include_str!("user_loader.pl");
+
 /// Predicates a `--kb` file replaces instead of extending: one of arity 1
 /// (`strategy/1`) whole, one of arity 2 or more (`bound/2`) name by name,
 /// by its first argument (`fm_consult/3` in `loader.pl`).
@@ -68,6 +72,10 @@ pub struct KnowledgeBase {
     /// Queries sent to the engine (cache misses) and answered from the cache.
     pub(crate) stats: KbStats,
     second: Option<SecondEngine>,
+    /// Whether `USER_LOADER` is consulted.
+    user_loader: bool,
+    /// The time the engine took to build and consult its files.
+    load_time: std::time::Duration,
 }
 
 /// Counters of the engine's use.
@@ -107,6 +115,7 @@ impl KnowledgeBase {
     }
 
     fn with_streams(streams: StreamConfig) -> Result<KnowledgeBase, KbError> {
+        let t0 = std::time::Instant::now();
         // the engine's own toplevel (its REPL, with a dozen libraries) is
         // not used here: a bare one halves the time a machine takes to
         // build; the loader and the KB load the libraries they use
@@ -124,6 +133,8 @@ impl KnowledgeBase {
             cache: HashMap::new(),
             stats: KbStats::default(),
             second: None,
+            user_loader: false,
+            load_time: std::time::Duration::ZERO,
         };
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
@@ -138,6 +149,7 @@ impl KnowledgeBase {
             }
         }
         kb.run(terms::ONLY_BUILT_IN_RULES)?;
+        kb.load_time = t0.elapsed();
         Ok(kb)
     }
 
@@ -145,6 +157,12 @@ impl KnowledgeBase {
     /// user's.
     pub fn files(&self) -> &[String] {
         &self.files
+    }
+
+    /// The time the engine took to build, consult the built-in rules and
+    /// the user's files (paid once a run, before the mesh's own clock).
+    pub fn load_time(&self) -> std::time::Duration {
+        self.load_time
     }
 
     /// The engine's use since it was built (a run's own share is in
@@ -268,6 +286,11 @@ impl KnowledgeBase {
     /// limit: rules other than the built-in ones may come in (a user's
     /// file or query), and one of them may run away.
     fn trust_rules_no_more(&mut self) {
+        if !self.user_loader {
+            self.machine
+                .consult_module_string("fm_user_loader", USER_LOADER.to_string());
+            self.user_loader = true;
+        }
         // a query the loader defines: it cannot fail to run
         let _ = self.run(terms::NOT_ONLY_BUILT_IN_RULES);
     }
@@ -315,6 +338,11 @@ impl KnowledgeBase {
             }
         }
         false
+    }
+
+    /// Whether a second engine is loaded and answering.
+    pub(super) fn second_engine_ready(&self) -> bool {
+        self.second.as_ref().and_then(SecondEngine::is_ready) == Some(true)
     }
 
     /// `ask_bounded_fresh` for each question, in order. A batch of
@@ -369,6 +397,13 @@ impl KnowledgeBase {
     /// `bound/2` by name); its other clauses are added after the built-in
     /// rules.
     pub fn consult_file(&mut self, path: &str) -> Result<usize, KbError> {
+        let t0 = std::time::Instant::now();
+        let consulted = self.consult_file_timed(path);
+        self.load_time += t0.elapsed();
+        consulted
+    }
+
+    fn consult_file_timed(&mut self, path: &str) -> Result<usize, KbError> {
         std::fs::metadata(path).map_err(|e| KbError::Read {
             path: path.into(),
             message: e.to_string(),

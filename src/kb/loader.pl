@@ -1,79 +1,13 @@
-/** Host support: reading a user's knowledge-base file clause by clause.
-
-fm_consult(+Path, +Settings, -Result) reads every term of Path, checks
-it, and only if the whole file is sound replaces the settings it defines
-(predicates of Settings, e.g. [strategy/1, bound/2]: strategy/1 whole,
-bound/2 by name) and adds the other clauses. Result is ok(Count) or error(Line, Reason).
-*/
+/** Host support: the mesher's questions and the live front, loaded with
+the built-in rules. What a user's file or query needs (reading a file
+clause by clause, the REPL's queries) is in user_loader.pl, loaded the
+first time a user's rules come in: its libraries cost a run a sixth of
+the engine's start. */
 
 :- use_module(library(lists)).
-:- use_module(library(iso_ext)).
-:- use_module(library(charsio)).
 
-fm_consult(Path, Settings, Result) :-
-    catch(fm_read_all_(Path, Items), E, true),
-    (   nonvar(E) -> fm_error_line_(E, Line), fm_reason_(E, Why), Result = error(Line, Why)
-    ;   fm_check_all_(Items, Problem) -> Result = Problem
-    ;   fm_saved_settings_(Items, Settings, Saved),
-        catch(fm_add_all_(Items, Settings, N), E2, true),
-        (   nonvar(E2) ->
-            fm_undo_(Items, Saved), fm_reason_(E2, Why2), Result = error(0, Why2)
-        ;   fm_probe_all_(Items, Problem2) ->
-            fm_undo_(Items, Saved), Result = Problem2
-        ;   Result = ok(N)
-        )
-    ).
-
-fm_read_all_(Path, Items) :-
-    setup_call_cleanup(open(Path, read, S), fm_read_items_(S, Items), close(S)).
-
-% Each item carries the line its clause ends on (the reader stops after
-% the clause's closing full stop and the layout character after it).
-fm_read_items_(S, Items) :-
-    read_term(S, T, []),
-    (   T == end_of_file -> Items = []
-    ;   stream_property(S, position(position_and_lines_read(_, Line))),
-        Items = [item(Line, T) | Rest],
-        fm_read_items_(S, Rest)
-    ).
-
-fm_error_line_(error(_, _:L), L) :- integer(L), !.
-fm_error_line_(_, 0).
-
-fm_reason_(error(syntax_error(W), _), R) :- !, R = syntax_error(W).
-fm_reason_(error(E, _), E) :- !.
-fm_reason_(E, E).
-
-% fm_check_all_(+Items, -Problem): Problem is the first unsound item.
-fm_check_all_([item(L, T) | Items], Problem) :-
-    (   fm_check_(T, Why) -> Problem = error(L, Why)
-    ;   fm_check_all_(Items, Problem)
-    ).
-
-fm_check_((:- D), Why) :- !,
-    (   fm_directive_ok_(D) -> fail ; Why = unsupported_directive(D) ).
-fm_check_((H :- _), Why) :- !, fm_check_head_(H, Why).
-fm_check_(H, Why) :- fm_check_head_(H, Why).
-
-fm_check_head_(H, Why) :-
-    (   var(H) -> Why = head_is_a_variable
-    ;   \+ callable(H) -> Why = head_not_callable(H)
-    ;   functor(H, N, A), fm_protected_(N, A) -> Why = cannot_redefine(N/A)
-    ;   fm_action_arg_(H, Act), nonvar(Act), \+ fm_known_action_(Act) ->
-        functor(Act, AN, AA), Why = undefined_action(AN/AA)
-    ).
-
-fm_protected_(N, A) :-
-    functor(H, N, A),
-    predicate_property(H, built_in).
-fm_protected_(N, A) :-
-    functor(H, N, A),
-    predicate_property(H, defined),
-    \+ predicate_property(H, dynamic).
-
-fm_action_arg_(feature_action(_, _, A), A).
-fm_action_arg_(redesign_rule(_, _, _, _, A), A).
-
+% The actions the host knows how to carry out (a user's rule may only
+% answer with these).
 fm_known_action_(a1(_, _, _, _)).
 fm_known_action_(a2(_, _)).
 fm_known_action_(a3).
@@ -81,126 +15,8 @@ fm_known_action_(a4).
 fm_known_action_(shift(_, A)) :- (var(A) -> true ; fm_known_action_(A)).
 fm_known_action_(merge(_, _)).
 
-fm_directive_ok_(dynamic(_)).
-fm_directive_ok_(discontiguous(_)).
-fm_directive_ok_(use_module(library(_))).
-
-fm_add_all_(Items, Settings, N) :-
-    fm_settings_defined_(Items, Settings, Gs),
-    forall(member(G, Gs), retractall(G)),
-    fm_add_items_(Items, 0, N).
-
-% The settings (of Settings) the file defines, as the general heads of the
-% clauses it replaces: a setting of arity 1 (strategy/1) is replaced
-% whole, one of arity 2 or more (bound/2) name by name, by its first
-% argument, so that a file holding bound(upper_corner, 140) leaves the
-% other bounds as they were.
-fm_settings_defined_(Items, Settings, Gs) :-
-    findall(Key,
-            ( member(item(_, T), Items), fm_head_(T, H),
-              functor(H, N0, A0), member(N0/A0, Settings),
-              fm_setting_key_(H, Key) ),
-            Keys0),
-    sort(Keys0, Keys),
-    findall(G,
-            ( member(Key, Keys),
-              \+ ( Key = name(N, A, _), member(whole(N, A), Keys) ),
-              fm_key_head_(Key, G) ),
-            Gs).
-
-fm_setting_key_(H, name(N, A, Name)) :-
-    functor(H, N, A),
-    A >= 2,
-    arg(1, H, Name),
-    atomic(Name),
-    !.
-fm_setting_key_(H, whole(N, A)) :-
-    functor(H, N, A).
-
-fm_key_head_(whole(N, A), G) :- functor(G, N, A).
-fm_key_head_(name(N, A, Name), G) :- functor(G, N, A), arg(1, G, Name).
-
-% The clauses of the settings the file replaces, to restore on undo.
-fm_saved_settings_(Items, Settings, Saved) :-
-    fm_settings_defined_(Items, Settings, Gs),
-    findall((G :- B), (member(G, Gs), clause(G, B)), Saved).
-
-% Takes a refused file back out: its clauses retracted, the settings it
-% replaced restored.
-fm_undo_(Items, Saved) :-
-    forall(member(item(_, T), Items),
-           (   T = (:- _) -> true
-           ;   fm_clause_(T, C), catch(retract(C), _, true) -> true
-           ;   true
-           )),
-    forall(member(C, Saved), assertz(C)).
-
-fm_clause_((H :- B), (H :- B)) :- !.
-fm_clause_(H, (H :- true)).
-
-/* Run-time check of a file: the body of each rule of a predicate the
-   host asks is called on sample contexts; a rule that throws or runs
-   away on them is refused with its line. */
-
-fm_probe_all_(Items, error(L, Why)) :-
-    member(item(L, (H :- B)), Items),
-    fm_probe_(P),
-    copy_term(H-B, H1-B1),
-    H1 = P,
-    fm_probe_body_(B1, H, Why),
-    !.
-
-fm_probe_body_(B, H, Why) :-
-    functor(H, Name, Arity),
-    catch(once(call_with_inference_limit(B, 1000000, R)), E, true),
-    (   nonvar(E) -> fm_formal_(E, F), Why = rule_raised(Name/Arity, F)
-    ;   R == inference_limit_exceeded -> Why = rule_runs_away(Name/Arity)
-    ).
-
 fm_formal_(error(F, _), F) :- !.
 fm_formal_(E, E).
-
-fm_probe_(feature(_, C)) :- fm_probe_ctx_(C).
-fm_probe_(feature_action(_, C, _)) :- fm_probe_ctx_(C).
-fm_probe_(violation(R, _)) :- fm_probe_relation_(R).
-fm_probe_(redesign_rule(_, C, A, V, _)) :-
-    fm_probe_ctx_(C), fm_probe_action_(A), fm_probe_violation_(V).
-fm_probe_(final_pattern(As, _, _)) :-
-    member(As, [[90, 90, 180, 90, 90, 180], [120, 120, 120, 120, 120, 120],
-                [60, 200, 90, 100, 150, 120]]).
-fm_probe_(strategy(_)).
-fm_probe_(bound(_, _)).
-
-fm_probe_ctx_(ctx(90, 180, 90, 180, 90, 1, 1)).
-fm_probe_ctx_(ctx(180, 180, 180, 180, 180, 1, 1)).
-fm_probe_ctx_(ctx(100, 200, 60, 250, 120, 0.5, 2.0)).
-fm_probe_ctx_(ctx(270, 90, 300, 45, 170, 1.5, 0.7)).
-
-fm_probe_action_(a1(90, 90, 1, 1)).
-fm_probe_action_(a2(90, 90)).
-fm_probe_action_(a3).
-fm_probe_action_(a4).
-
-fm_probe_violation_(V) :-
-    member(V, [near_boundary(n3), near_concave(e23), near_node(n4),
-               small_outer_corner(n1), small_corner(n3), large_corner(n4),
-               small_remaining(n3)]).
-
-fm_probe_relation_(R) :-
-    member(R, [corner_segment(n3, 0.1, 0.0, 1.0), corner_node(n3, 0.2, 1.0),
-               edge_point(e23, 0.1, 0.0, 1.0, 270), outer_corner(n1, 30),
-               inner_corner(n3, 150), remaining_corner(n3, 30)]).
-
-fm_head_((H :- _), H) :- !.
-fm_head_((:- _), _) :- !, fail.
-fm_head_(H, H).
-
-fm_add_items_([], N, N).
-fm_add_items_([item(_, T) | Items], N0, N) :-
-    (   T = (:- D) -> call(D), N1 = N0
-    ;   assertz(T), N1 is N0 + 1
-    ),
-    fm_add_items_(Items, N1, N).
 
 /* Host support: the live front as facts (kb/front.pl). */
 
@@ -218,79 +34,6 @@ fm_front_set(Nodes, Edges, Angles, Ctxs) :-
     forall(member(e(A, B), Edges), assertz(front_edge(A, B))),
     forall(member(a(N1, T), Angles), assertz(node_angle(N1, T))),
     forall(member(c(E, N, C), Ctxs), assertz(edge_context(E, N, C))).
-
-/* Host support: a user's query, typed at the REPL. */
-
-%% fm_repl_query(+Codes, +Limit, -Answer)
-%
-% Reads the query from its character codes (so no text the user types
-% can break the host's query), calls it with at most Limit inferences per
-% answer and gives, one per solution on backtracking:
-%   answer(Bindings, More)
-%                      Bindings a list of Name = Text (the value written
-%                      as Prolog text, variables by their names); More is
-%                      last when no other answer can follow, else more
-%   error(Text)        a syntax error, an exception or a runaway; last
-fm_repl_query(Codes, Limit, Answer) :-
-    atom_codes(Atom, Codes),
-    atom_chars(Atom, Chars),
-    catch(read_term_from_chars(Chars, Goal, [variable_names(Vs)]), E, true),
-    (   nonvar(E) -> fm_error_text_(E, Answer)
-    ;   catch(call_with_inference_limit(Goal, Limit, R), E2, true),
-        (   nonvar(E2) -> fm_error_text_(E2, Answer)
-        ;   R == inference_limit_exceeded ->
-            Answer = error('the query ran past the inference limit (a loop?)')
-        ;   fm_fresh_names_(Vs, Names),
-            fm_bindings_(Vs, Names, Bs),
-            % R is ! when the goal left no choice point: no answer can follow
-            (   R == ! -> More = last ; More = more ),
-            Answer = answer(Bs, More)
-        )
-    ).
-
-% The variables of the answers the query did not name are written _A,
-% _B, ... (as the engine's own toplevel does), never as a name of the
-% query's.
-fm_fresh_names_(Vs, Names) :-
-    term_variables(Vs, Free),
-    fm_name_free_(Free, Vs, 0, Extra),
-    append(Vs, Extra, Names).
-
-fm_name_free_([], _, _, []).
-fm_name_free_([V | Free], Vs, I, Extra) :-
-    (   member(_ = W, Vs), W == V -> Extra = Extra1, I1 = I
-    ;   fm_fresh_name_(I, Vs, Name, I1), Extra = [Name = V | Extra1]
-    ),
-    fm_name_free_(Free, Vs, I1, Extra1).
-
-fm_fresh_name_(I, Vs, Name, I1) :-
-    Letter is 0'A + I mod 26,
-    (   I < 26 -> atom_codes(Name0, [0'_, Letter])
-    ;   N is I // 26, number_codes(N, Ds), atom_codes(Name0, [0'_, Letter | Ds])
-    ),
-    I0 is I + 1,
-    (   member(Name0 = _, Vs) -> fm_fresh_name_(I0, Vs, Name, I1)
-    ;   Name = Name0, I1 = I0
-    ).
-
-fm_bindings_([], _, []).
-fm_bindings_([Name = V | Rest], Vs, Bs) :-
-    write_term_to_chars(V, [quoted(true), variable_names(Vs)], Cs),
-    atom_chars(Text, Cs),
-    (   ( sub_atom(Name, 0, 1, _, '_') ; Text == Name ) -> Bs = Bs1
-    ;   Bs = [Name = Text | Bs1]
-    ),
-    fm_bindings_(Rest, Vs, Bs1).
-
-fm_error_text_(E, error(Text)) :-
-    fm_error_words_(E, W),
-    write_term_to_chars(W, [quoted(true)], Cs),
-    atom_chars(Text, Cs).
-
-fm_error_words_(error(syntax_error(S), _), syntax_error(S)) :- !.
-fm_error_words_(error(existence_error(procedure, PI), _), unknown_procedure(PI)) :- !.
-fm_error_words_(error(E, _), E) :- !.
-fm_error_words_(E, exception(E)).
 
 /* Host support: the mesher's questions, each bounded, so that a user's
    rule that throws or runs away on some edge stops the run with the
@@ -319,6 +62,19 @@ fm_design_packed(P, H5, H6, R) :-
     T4 is P3 mod 1000, T7 is P3 // 1000,
     L5 is H5 / 100.0, L6 is H6 / 100.0,
     fm_design(ctx(T7, T4, T1, T2, T5, L5, L6), R).
+
+%% fm_designs(+Items, -Rs)
+%
+% fm_design/2 over a batch of edges, in one query: Items are p(Angles,
+% H5, H6) (packed as for fm_design_packed/4) or c(Ctx); Rs holds each
+% one's R in order, or none where the edge shows no feature.
+fm_designs([], []).
+fm_designs([I | Is], [R | Rs]) :-
+    (   fm_design_item_(I, R0) -> R = R0 ; R = none ),
+    fm_designs(Is, Rs).
+
+fm_design_item_(p(P, H5, H6), R) :- fm_design_packed(P, H5, H6, R).
+fm_design_item_(c(Ctx), R) :- fm_design(Ctx, R).
 
 %% fm_redesign(+Ctx, +Action, +Relations, -R)
 %

@@ -1,6 +1,7 @@
 //! The knowledge base: the engine with the rules loaded (`engine.rs`, a
 //! second engine beside it for batches, `second_engine.rs`, the loader
-//! `loader.pl` that checks a user's file and bounds every question), and
+//! `loader.pl` that bounds every question, and `user_loader.pl`, loaded
+//! when a user's rules come in, that checks a user's file), and
 //! the protocol the host speaks with it: typed questions
 //! (`questions.rs`) in the host's words (`vocabulary.rs`), whose text
 //! and answers are written and read in one place (`terms.rs`).

@@ -16,6 +16,11 @@ use crate::kb::vocabulary::{
 };
 use crate::settings::{ElementBounds, HostBounds, Settings};
 
+/// Batches of design questions from this size are split in two halves
+/// when a second engine is ready: below it, handing a half over costs
+/// more than it saves.
+const SHARED_BATCH: usize = 8;
+
 impl KnowledgeBase {
     /// The settings (`strategy/1`, `bound/2`), read once for a run.
     pub fn settings(&mut self) -> Result<Settings, KbError> {
@@ -60,21 +65,44 @@ impl KnowledgeBase {
     }
 
     /// The design of each context, in order: the feature and action, or
-    /// None where the edge shows no feature. One batch, which a second
-    /// engine may share (the answers do not depend on who gives them).
-    /// Not memoised here: the caller keeps the answers by context.
+    /// None where the edge shows no feature. One query a batch (or one
+    /// for each half when a second engine shares it: the answers do not
+    /// depend on who gives them). Not memoised here: the caller keeps the
+    /// answers by context.
     pub fn designs(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
+        let halves = if self.second_engine_ready() && contexts.len() >= SHARED_BATCH {
+            2
+        } else {
+            1
+        };
+        let chunks: Vec<&[Context]> = contexts.chunks(contexts.len().div_ceil(halves)).collect();
         // the context as text is for messages: written only for one
-        let questions: Vec<Question> = contexts
+        let questions: Vec<Question> = chunks
             .iter()
-            .map(|c| (terms::design_question(c), String::new()))
+            .map(|c| (terms::designs_question(c), String::new()))
             .collect();
         let answers = self.ask_bounded_fresh_all(questions);
-        contexts
-            .iter()
-            .zip(answers)
-            .map(|(ctx, answer)| read_design(ctx, answer))
-            .collect()
+        let mut out = Vec::with_capacity(contexts.len());
+        for (chunk, answer) in chunks.into_iter().zip(answers) {
+            match answer
+                .ok()
+                .and_then(|a| terms::designs_answer(a, chunk.len()))
+            {
+                Some(items) => out.extend(
+                    chunk
+                        .iter()
+                        .zip(items)
+                        .map(|(ctx, a)| read_design(ctx, terms::fault_to_error(a, ""))),
+                ),
+                // a batch that threw: asked one by one, so that the error
+                // is the edge's own
+                None => out.extend(chunk.iter().map(|ctx| {
+                    let answer = self.ask_bounded_fresh(&terms::design_question(ctx), "");
+                    read_design(ctx, answer)
+                })),
+            }
+        }
+        out
     }
 
     /// The feature and action the KB gives a context, as text for people
@@ -171,5 +199,77 @@ fn read_design(
             answer: terms::term_text(&ans),
             expected: "d(Feature, Action) with a known, sound action".into(),
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Contexts of every kind a batch holds: packable (whole degrees,
+    /// lengths in hundredths), not (a fraction of a degree), and ones that
+    /// show no feature or a reflex corner.
+    fn contexts() -> Vec<Context> {
+        let mut out = Vec::new();
+        for t in [45.0, 90.0, 135.0, 180.0, 200.0, 270.0, 300.0, 359.5] {
+            out.push(Context([180.0, 180.0, t, 180.0, 180.0, 1.0, 1.0]));
+            out.push(Context([90.0, 180.0, 90.0, t, 90.0, 0.8, 1.23]));
+            out.push(Context([120.0, t, 250.0, 60.0, 180.0, 0.333, 2.0]));
+        }
+        out
+    }
+
+    fn one_by_one(kb: &mut KnowledgeBase, contexts: &[Context]) -> Vec<String> {
+        contexts
+            .iter()
+            .map(|c| {
+                let answer = kb.ask_bounded_fresh(&terms::design_question(c), "");
+                format!("{:?}", read_design(c, answer))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_batch_of_design_questions_answers_as_each_alone() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let contexts = contexts();
+        let expected = one_by_one(&mut kb, &contexts);
+        assert!(
+            expected.iter().any(|e| e.contains("Ok(None)")),
+            "no featureless edge"
+        );
+        assert!(expected.iter().any(|e| e.contains("Ok(Some")), "no feature");
+        let queries = kb.stats.engine_queries;
+        let got: Vec<String> = kb
+            .designs(&contexts)
+            .into_iter()
+            .map(|d| format!("{d:?}"))
+            .collect();
+        assert_eq!(got, expected);
+        assert_eq!(
+            kb.stats.engine_queries,
+            queries + 1,
+            "one query for the batch"
+        );
+    }
+
+    #[test]
+    fn a_rule_at_fault_in_a_batch_is_named_with_its_edge() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.consult_file("tests/kb/throws-on-a-reflex-corner.pl")
+            .unwrap();
+        let contexts = contexts();
+        let expected = one_by_one(&mut kb, &contexts);
+        let faults: Vec<&String> = expected.iter().filter(|e| e.contains("raised")).collect();
+        assert!(!faults.is_empty());
+        assert!(faults
+            .iter()
+            .all(|e| e.contains("feature(b6)") && e.contains("ctx(")));
+        let got: Vec<String> = kb
+            .designs(&contexts)
+            .into_iter()
+            .map(|d| format!("{d:?}"))
+            .collect();
+        assert_eq!(got, expected);
     }
 }

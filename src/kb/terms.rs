@@ -285,6 +285,20 @@ impl fmt::Display for Context {
 /// hundredths; `fm_design_packed/4` of the loader unpacks them into the
 /// same `ctx/7` term. Contexts it cannot pack exactly are asked as text.
 pub(super) fn design_question(ctx: &Context) -> String {
+    match design_item(ctx) {
+        DesignItem::Packed(p) => format!("fm_design_packed({p},R)."),
+        DesignItem::Text => design_question_text(ctx),
+    }
+}
+
+/// A context as the loader's `fm_design_packed/4` reads it (`P,H5,H6`),
+/// or `Text` where it cannot be packed exactly.
+enum DesignItem {
+    Packed(String),
+    Text,
+}
+
+fn design_item(ctx: &Context) -> DesignItem {
     let n = &ctx.0;
     let angles_packable = n[..5]
         .iter()
@@ -296,10 +310,42 @@ pub(super) fn design_question(ctx: &Context) -> String {
     match (angles_packable, hundredths(n[5]), hundredths(n[6])) {
         (true, Some(h5), Some(h6)) => {
             let packed = n[..5].iter().fold(0i64, |p, &a| p * 1000 + a as i64);
-            format!("fm_design_packed({packed},{h5},{h6},R).")
+            DesignItem::Packed(format!("{packed},{h5},{h6}"))
         }
-        _ => design_question_text(ctx),
+        _ => DesignItem::Text,
     }
+}
+
+/// The design questions of several contexts as one query (`fm_designs/2`
+/// of the loader): the engine reads and compiles one query for the batch
+/// instead of one an edge. Each item is packed as in `design_question`.
+pub(super) fn designs_question(contexts: &[Context]) -> String {
+    let items: Vec<String> = contexts
+        .iter()
+        .map(|c| match design_item(c) {
+            DesignItem::Packed(p) => format!("p({p})"),
+            DesignItem::Text => format!("c({c})"),
+        })
+        .collect();
+    format!("fm_designs([{}],R).", items.join(","))
+}
+
+/// The answers of `designs_question`, in order: each item's answer, None
+/// where the edge shows no feature (`none`); None for the whole when the
+/// answer is not a list of the batch's length.
+pub(super) fn designs_answer(ans: Option<Term>, n: usize) -> Option<Vec<Option<Term>>> {
+    let Some(Term::List(items)) = ans else {
+        return None;
+    };
+    (items.len() == n).then(|| {
+        items
+            .into_iter()
+            .map(|t| match t {
+                Term::Atom(a) if a == "none" => None,
+                t => Some(t),
+            })
+            .collect()
+    })
 }
 
 /// The design question with the context written out.
