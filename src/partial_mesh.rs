@@ -159,6 +159,9 @@ pub struct PartialMesh {
     /// others mesh as they did (on four public domains the guard changes
     /// the mesh, for better and worse).
     pub guard_loop_areas: bool,
+    /// The inner lines' segments, both ways: the domain lies on both
+    /// sides of them (see `parts_a_line_seam`).
+    line_segments: rustc_hash::FxHashSet<(u32, u32)>,
 }
 
 impl PartialMesh {
@@ -184,6 +187,12 @@ impl PartialMesh {
         // step by step copies them over and over
         let expected = estimate.min(4e6) as usize;
         let mut mesh = disc.mesh;
+        let line_segments = mesh
+            .boundary
+            .iter()
+            .filter(|e| mesh.groups[e.group as usize].starts_with("line "))
+            .flat_map(|e| [(e.a, e.b), (e.b, e.a)])
+            .collect();
         mesh.quads.reserve(expected + expected / 8);
         mesh.nodes.reserve(expected + expected / 8);
         front.reserve(expected + expected / 8);
@@ -204,8 +213,22 @@ impl PartialMesh {
             edge_owner: None,
             area,
             guard_loop_areas,
+            line_segments,
         };
         (pm, expected)
+    }
+
+    /// Whether parting the loop at occurrences `m` and `o` of one node
+    /// (`Front::split_pinch`) would close a two-edge loop, the node and a
+    /// neighbour there and back, along an inner line: the front would
+    /// take it for a seam between elements, while both of the line's
+    /// sides still want theirs.
+    pub fn parts_a_line_seam(&self, m: Fv, o: Fv) -> bool {
+        let node = self.front.node(m);
+        [(m, o), (o, m)].iter().any(|&(u, v)| {
+            let b = self.front.next(v);
+            self.front.next(b) == u && self.line_segments.contains(&(node, self.front.node(b)))
+        })
     }
 
     /// The signed area a loop encloses (positive: a region on its left).

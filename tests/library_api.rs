@@ -257,3 +257,18 @@ fn a_mesh_is_made_only_valid() {
     let _ = render(&read.mesh, None, "good", Format::Svg);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A star with a short inner line: taking elements back beside the line
+/// once parted its two sides off as a loop of two edges, which the front
+/// takes for a closed seam, so that neither side got an element and the
+/// whole domain went to the triangle fallback.
+#[test]
+fn an_inner_lines_two_sides_both_get_elements() {
+    let domain = Domain::from_file("tests/stuck/star-inner-line.json").unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    assert_eq!(result.stats.triangle_fallbacks, 0);
+    assert_eq!(result.stats.open_loops_closed, 0);
+    assert!(result.stats.unmeshed > 0, "the take-back this is about");
+    assert!(result.stopped_short.is_none());
+}

@@ -56,6 +56,11 @@ pub fn unmesh_layer(pm: &mut PartialMesh, l: u32) -> Option<Vec<Fv>> {
                     continue;
                 }
                 if pm.front.loop_of(o) == pm.front.loop_of(m) {
+                    // not along an inner line: the loop is left passing
+                    // the node twice there
+                    if pm.parts_a_line_seam(m, o) {
+                        continue;
+                    }
                     pm.front.split_pinch(m, o);
                 } else {
                     pm.front.join_pinch(m, o);

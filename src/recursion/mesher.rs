@@ -479,6 +479,7 @@ impl<'k> Mesher<'k> {
             };
             if !self.pm.front.alive(target)
                 || self.pm.front.loop_of(target) != self.pm.front.loop_of(occ)
+                || self.pm.parts_a_line_seam(occ, target)
             {
                 ok = false;
                 break;
