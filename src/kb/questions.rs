@@ -16,11 +16,6 @@ use crate::kb::vocabulary::{
 };
 use crate::settings::{ElementBounds, HostBounds, Settings};
 
-/// Batches of design questions from this size are split in two halves
-/// when a second engine is ready: below it, handing a half over costs
-/// more than it saves.
-const SHARED_BATCH: usize = 8;
-
 impl KnowledgeBase {
     /// The settings (`strategy/1`, `bound/2`), read once for a run.
     pub fn settings(&mut self) -> Result<Settings, KbError> {
@@ -65,44 +60,45 @@ impl KnowledgeBase {
     }
 
     /// The design of each context, in order: the feature and action, or
-    /// None where the edge shows no feature. One query a batch (or one
-    /// for each half when a second engine shares it: the answers do not
-    /// depend on who gives them). Not memoised here: the caller keeps the
-    /// answers by context.
+    /// None where the edge shows no feature. Not memoised here: the
+    /// caller keeps the answers by context. Where a second engine is
+    /// ready, both take the questions one by one (the answers do not
+    /// depend on who gives them); else the batch is one query, which the
+    /// engine reads and compiles once.
     pub fn designs(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
-        let halves = if self.second_engine_ready() && contexts.len() >= SHARED_BATCH {
-            2
-        } else {
-            1
-        };
-        let chunks: Vec<&[Context]> = contexts.chunks(contexts.len().div_ceil(halves)).collect();
-        // the context as text is for messages: written only for one
-        let questions: Vec<Question> = chunks
-            .iter()
-            .map(|c| (terms::designs_question(c), String::new()))
-            .collect();
-        let answers = self.ask_bounded_fresh_all(questions);
-        let mut out = Vec::with_capacity(contexts.len());
-        for (chunk, answer) in chunks.into_iter().zip(answers) {
-            match answer
-                .ok()
-                .and_then(|a| terms::designs_answer(a, chunk.len()))
-            {
-                Some(items) => out.extend(
-                    chunk
-                        .iter()
-                        .zip(items)
-                        .map(|(ctx, a)| read_design(ctx, terms::fault_to_error(a, ""))),
-                ),
-                // a batch that threw: asked one by one, so that the error
-                // is the edge's own
-                None => out.extend(chunk.iter().map(|ctx| {
+        if self.second_engine_ready() && contexts.len() > 1 {
+            // the context as text is for messages: written only for one
+            let questions: Vec<Question> = contexts
+                .iter()
+                .map(|c| (terms::design_question(c), String::new()))
+                .collect();
+            let answers = self.ask_bounded_fresh_all(questions);
+            return contexts
+                .iter()
+                .zip(answers)
+                .map(|(ctx, answer)| read_design(ctx, answer))
+                .collect();
+        }
+        let answer = self.ask_bounded_fresh(&terms::designs_question(contexts), "");
+        match answer
+            .ok()
+            .and_then(|a| terms::designs_answer(a, contexts.len()))
+        {
+            Some(items) => contexts
+                .iter()
+                .zip(items)
+                .map(|(ctx, a)| read_design(ctx, terms::fault_to_error(a, "")))
+                .collect(),
+            // a batch that threw: asked one by one, so that the error is
+            // the edge's own
+            None => contexts
+                .iter()
+                .map(|ctx| {
                     let answer = self.ask_bounded_fresh(&terms::design_question(ctx), "");
                     read_design(ctx, answer)
-                })),
-            }
+                })
+                .collect(),
         }
-        out
     }
 
     /// The feature and action the KB gives a context, as text for people
