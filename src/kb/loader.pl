@@ -30,10 +30,20 @@ fm_front_set(Nodes, Edges, Angles, Ctxs) :-
     retractall(front_edge(_, _)),
     retractall(node_angle(_, _)),
     retractall(edge_context(_, _, _)),
-    forall(member(xy(N, X, Y), Nodes), assertz(node_xy(N, X, Y))),
-    forall(member(e(A, B), Edges), assertz(front_edge(A, B))),
-    forall(member(a(N1, T), Angles), assertz(node_angle(N1, T))),
-    forall(member(c(E, N, C), Ctxs), assertz(edge_context(E, N, C))).
+    fm_assert_as_(Nodes, node_xy),
+    fm_assert_as_(Edges, front_edge),
+    fm_assert_as_(Angles, node_angle),
+    fm_assert_as_(Ctxs, edge_context).
+
+% fm_assert_as_(+Terms, +Name): each term's arguments asserted as a fact
+% Name(Args...) (forall/2 is library(iso_ext)'s, which only a user's
+% rules bring in).
+fm_assert_as_([], _).
+fm_assert_as_([T | Ts], Name) :-
+    T =.. [_ | Args],
+    F =.. [Name | Args],
+    assertz(F),
+    fm_assert_as_(Ts, Name).
 
 /* Host support: the mesher's questions, each bounded, so that a user's
    rule that throws or runs away on some edge stops the run with the
