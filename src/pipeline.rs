@@ -19,7 +19,7 @@ use crate::recursion::{MeshError, Mesher, Outcome, Prepared};
 use crate::report::check::{self, MeshCheckError};
 use crate::report::quality::{self, Quality};
 use crate::report::trace::{By, TraceStep, Veto};
-use crate::settings::{ElementBounds, HostBounds};
+use crate::settings::{ElementBounds, HostBounds, Settings};
 use crate::smoothing;
 
 /// How many times at most the clean-up and the smoothing round its
@@ -208,19 +208,28 @@ pub struct RunBoundary {
     area: f64,
     /// The `thin_wall` bound the segment counts were matched with.
     wall: f64,
+    /// The `max_size_jump` bound the cutting lines were drawn with.
+    jump: f64,
 }
 
 /// Discretises a domain's boundary with boundary size `size` (the
 /// domain's own when None) and draws the cutting lines, with the built-in
-/// `thin_wall` bound (a run whose KB sets another discretises again).
+/// `thin_wall` and `max_size_jump` bounds (a run whose KB sets others
+/// discretises again).
 pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
-    discretise_with_wall(domain, size, HostBounds::default().thin_wall)
+    discretise_with_bounds(
+        domain,
+        size,
+        HostBounds::default().thin_wall,
+        ElementBounds::default().max_size_jump,
+    )
 }
 
-fn discretise_with_wall(
+fn discretise_with_bounds(
     domain: &Domain,
     size: Option<f64>,
     wall: f64,
+    jump: f64,
 ) -> Result<RunBoundary, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
@@ -241,27 +250,29 @@ fn discretise_with_wall(
         }
         .into());
     }
-    let disc = boundary::discretise(domain, size, wall)?;
+    let disc = boundary::discretise(domain, size, wall, jump)?;
     let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
     Ok(RunBoundary {
         disc,
         size,
         area,
         wall,
+        jump,
     })
 }
 
-/// The boundary discretised again where the KB's `thin_wall` bound is not
-/// the one it was made with.
-fn with_kb_wall(
+/// The boundary discretised again where the KB's `thin_wall` or
+/// `max_size_jump` bound is not the one it was made with.
+fn with_kb_bounds(
     domain: &Domain,
     run_boundary: RunBoundary,
-    wall: f64,
+    settings: &Settings,
 ) -> Result<RunBoundary, Error> {
-    if run_boundary.wall == wall {
+    let (wall, jump) = (settings.host.thin_wall, settings.element.max_size_jump);
+    if run_boundary.wall == wall && run_boundary.jump == jump {
         return Ok(run_boundary);
     }
-    discretise_with_wall(domain, Some(run_boundary.size), wall)
+    discretise_with_bounds(domain, Some(run_boundary.size), wall, jump)
 }
 
 /// The boundary features of a domain's initial loop (after the cutting
@@ -275,7 +286,7 @@ pub fn domain_features(
     let run_boundary = discretise_for_run(domain, size)?;
     let RunBoundary {
         disc, size, area, ..
-    } = with_kb_wall(domain, run_boundary, settings.host.thin_wall)?;
+    } = with_kb_bounds(domain, run_boundary, &settings)?;
     let prepared = Prepared::new(disc, size, area, settings);
     Ok(Mesher::start_from(kb, prepared).front_features()?)
 }
@@ -422,7 +433,7 @@ pub fn prepare_run(
     let settings = kb.settings()?;
     let RunBoundary {
         disc, size, area, ..
-    } = with_kb_wall(domain, run_boundary, settings.host.thin_wall)?;
+    } = with_kb_bounds(domain, run_boundary, &settings)?;
     let boundary = disc.clone();
     let prepared = Prepared::new(disc, size, area, settings);
     Ok(PreparedRun {

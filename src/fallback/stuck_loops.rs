@@ -407,7 +407,7 @@ mod tests {
             r#"{"name": "sq", "size": 1, "outer": {"points": [[0,0],[3,0],[3,3],[0,3]]}}"#,
         )
         .unwrap();
-        let mut mesh = discretise(&domain, 1.0, 0.0).unwrap().mesh;
+        let mut mesh = discretise(&domain, 1.0, 0.0, 2.0).unwrap().mesh;
         assert_eq!(mesh.nodes.len(), 12);
         let mut at = |x: f64, y: f64| -> u32 {
             let p = DVec2::new(x, y);

@@ -10,7 +10,6 @@ use crate::input::curves::min_arc_segments;
 use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::input::thin_walls::match_facing_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
-use crate::settings::ElementBounds;
 
 /// The segment count of every edge of every chain (outer, holes, lines in
 /// that order), with an even total: edges facing each other across a wall
@@ -219,9 +218,16 @@ fn chain_nodes(
 /// lines that reach the boundary or each other part the domain into
 /// regions, each region's loop is made even: a free edge of a loop round
 /// it (or of a line between two odd regions) gets one more segment.
-pub fn discretise(domain: &Domain, size: f64, wall: f64) -> Result<Discretised, DomainError> {
+/// `wall` is the KB's `thin_wall` bound, `jump` its `max_size_jump` (a
+/// cut's segments kept within it of the input segments at its ends).
+pub fn discretise(
+    domain: &Domain,
+    size: f64,
+    wall: f64,
+    jump: f64,
+) -> Result<Discretised, DomainError> {
     let (mut counts, thin_wall_edges) = segment_counts(domain, size, wall)?;
-    let (disc, faces, sources) = discretise_with(domain, size, &counts)?;
+    let (disc, faces, sources) = discretise_with(domain, size, jump, &counts)?;
     if faces.iter().all(|f| f.len % 2 == 0) {
         return Ok(Discretised {
             thin_wall_edges,
@@ -229,7 +235,7 @@ pub fn discretise(domain: &Domain, size: f64, wall: f64) -> Result<Discretised, 
         });
     }
     even_regions(domain, &disc.mesh, &faces, &sources, &mut counts)?;
-    let (disc, faces, _) = discretise_with(domain, size, &counts)?;
+    let (disc, faces, _) = discretise_with(domain, size, jump, &counts)?;
     match faces.iter().find(|f| f.len % 2 == 1) {
         None => Ok(Discretised { thin_wall_edges, ..disc }),
         Some(f) => Err(DomainError::Geometry(format!(
@@ -316,6 +322,7 @@ struct Face {
 fn discretise_with(
     domain: &Domain,
     size: f64,
+    jump: f64,
     counts: &[Vec<usize>],
 ) -> Result<(Discretised, Vec<Face>, Vec<usize>), DomainError> {
     let mut mesh = Mesh::default();
@@ -360,9 +367,8 @@ fn discretise_with(
     }
     let comps = components(&chains);
     let lines_meet = comps.iter().any(|c| !c.junctions.is_empty());
-    // a cut's segments within the paper's size jump of the input segments
-    // at its ends, as far as a cut allows
-    let jump = ElementBounds::default().max_size_jump;
+    // a cut's segments within the size jump of the input segments at its
+    // ends, as far as a cut allows
     let cuts = join_components(&mut mesh, &comps, size, jump)?;
     let (front_loops, faces) = trace_faces(&mesh, 1 + domain.holes.len() as u32, &cuts);
     Ok((
@@ -753,12 +759,22 @@ mod tests {
                                       [0, -0.5], [2.49, -0.003]]}]}"#,
         )
         .unwrap();
-        let disc = discretise(&domain, 0.2, 0.0).unwrap();
+        let disc = discretise(&domain, 0.2, 0.0, 2.0).unwrap();
         assert_eq!(disc.cuts.len(), 1);
         let tip = glam::DVec2::new(2.5, 0.0);
         for end in [disc.cuts[0][0], *disc.cuts[0].last().unwrap()] {
             let p = disc.mesh.nodes[end as usize];
             assert!((p - tip).length() > 0.05, "the cut ends at {p} by the tip");
         }
+        // the bound is the KB's to set: with no limit on the jump the
+        // shortest cut, from the tip, wins
+        let loose = discretise(&domain, 0.2, 0.0, 100.0).unwrap();
+        let ends = [loose.cuts[0][0], *loose.cuts[0].last().unwrap()];
+        assert!(
+            ends.iter()
+                .any(|&e| (loose.mesh.nodes[e as usize] - tip).length() < 0.05),
+            "{:?}",
+            ends.map(|e| loose.mesh.nodes[e as usize])
+        );
     }
 }
