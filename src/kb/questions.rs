@@ -67,17 +67,7 @@ impl KnowledgeBase {
     /// engine reads and compiles once.
     pub fn designs(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
         if self.second_engine_ready() && contexts.len() > 1 {
-            // the context as text is for messages: written only for one
-            let questions: Vec<Question> = contexts
-                .iter()
-                .map(|c| (terms::design_question(c), String::new()))
-                .collect();
-            let answers = self.ask_bounded_fresh_all(questions);
-            return contexts
-                .iter()
-                .zip(answers)
-                .map(|(ctx, answer)| read_design(ctx, answer))
-                .collect();
+            return self.designs_one_by_one(contexts);
         }
         let answer = self.ask_bounded_fresh(&terms::designs_question(contexts), "");
         match answer
@@ -91,14 +81,27 @@ impl KnowledgeBase {
                 .collect(),
             // a batch that threw: asked one by one, so that the error is
             // the edge's own
-            None => contexts
-                .iter()
-                .map(|ctx| {
-                    let answer = self.ask_bounded_fresh(&terms::design_question(ctx), "");
-                    read_design(ctx, answer)
-                })
-                .collect(),
+            None => self.designs_one_by_one(contexts),
         }
+    }
+
+    /// `designs` a question an edge, shared with a second engine when one
+    /// is ready.
+    fn designs_one_by_one(
+        &mut self,
+        contexts: &[Context],
+    ) -> Vec<Result<Option<Designed>, KbError>> {
+        // the context as text is for messages: written only for one
+        let questions: Vec<Question> = contexts
+            .iter()
+            .map(|c| (terms::design_question(c), String::new()))
+            .collect();
+        let answers = self.ask_bounded_fresh_all(questions);
+        contexts
+            .iter()
+            .zip(answers)
+            .map(|(ctx, answer)| read_design(ctx, answer))
+            .collect()
     }
 
     /// The feature and action the KB gives a context, as text for people
@@ -225,6 +228,13 @@ mod tests {
             .collect()
     }
 
+    fn batched(kb: &mut KnowledgeBase, contexts: &[Context]) -> Vec<String> {
+        kb.designs(contexts)
+            .into_iter()
+            .map(|d| format!("{d:?}"))
+            .collect()
+    }
+
     #[test]
     fn a_batch_of_design_questions_answers_as_each_alone() {
         let mut kb = KnowledgeBase::builtin().unwrap();
@@ -236,12 +246,7 @@ mod tests {
         );
         assert!(expected.iter().any(|e| e.contains("Ok(Some")), "no feature");
         let queries = kb.stats.engine_queries;
-        let got: Vec<String> = kb
-            .designs(&contexts)
-            .into_iter()
-            .map(|d| format!("{d:?}"))
-            .collect();
-        assert_eq!(got, expected);
+        assert_eq!(batched(&mut kb, &contexts), expected);
         assert_eq!(
             kb.stats.engine_queries,
             queries + 1,
@@ -261,11 +266,6 @@ mod tests {
         assert!(faults
             .iter()
             .all(|e| e.contains("feature(b6)") && e.contains("ctx(")));
-        let got: Vec<String> = kb
-            .designs(&contexts)
-            .into_iter()
-            .map(|d| format!("{d:?}"))
-            .collect();
-        assert_eq!(got, expected);
+        assert_eq!(batched(&mut kb, &contexts), expected);
     }
 }
