@@ -14,13 +14,17 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
                           calls the node after N2 "N3").
   a4                      new N3 = (N2 + N4 + N6)/3 with N6 = N5 + N7 - N1,
                           the far corner of the block of Fig. 9(a).
+  t3(H)                   three edges N4N1, N1N2, N2N5 become one over two
+                          rows of four elements: new nodes H (relative
+                          to the edges' mean length) above N1 and N2,
+                          2H above N4 and N5 (a coarser interior).
 
 ```
-?- feature_action(b2, ctx(180, 180, 90, 180, 180, 1, 1), A).
+?- feature_action(b2, ctx(180, 180, 90, 180, 180, 1, 1, 1), A).
    A = a2(90, 90).
-?- context_design(ctx(182, 182, 0, 180, 180, 1, 1), F, A).
+?- context_design(ctx(182, 182, 0, 180, 180, 1, 1, 1), F, A).
    F = tip, A = a2(135.0, 135.0).
-?- context_design(ctx(180, 180, 180, 180, 180, 1, 1), F, A).
+?- context_design(ctx(180, 180, 180, 180, 180, 1, 1, 1), F, A).
    F = b1, A = a1(90.0, 90.0, 1.0, 1.0).
 ```
 */
@@ -31,19 +35,22 @@ An action term says how to place the element N1N2N3N4 over the edge N1N2
 %
 % Action is the design action for an edge with Feature and context Ctx
 % (below, the reflex corner of 270 at N2 is shared by three elements).
-% ?- feature_action(b1, ctx(180, 180, 180, 270, 180, 1, 1), A).
+% ?- feature_action(b1, ctx(180, 180, 180, 270, 180, 1, 1, 1), A).
 %    A = a1(90.0, 90.0, 1.0, 1.0).
 
 % a1 for b1: phi = theta/2, l2 = (l1 + l6)/(2 sin phi2),
 % l4 = (l5 + l1)/(2 sin phi1). A reflex angle above bound(reflex_split)
 % is shared by more elements: phi = theta/k, k = round(theta/90).
-feature_action(b1, ctx(_, _, T1, T2, _, L5, L6), a1(Phi1, Phi2, L2, L4)) :-
+% In a graded run the row grows toward the size aimed for: both sides
+% are G times as long, G = R (the grading ratio) within [1, row_growth].
+feature_action(b1, ctx(_, _, T1, T2, _, L5, L6, R), a1(Phi1, Phi2, L2, L4)) :-
     corner_share_(T1, Phi1),
     corner_share_(T2, Phi2),
-    L2 is (1 + L6) / (2 * sin(Phi2 * pi / 180)),
-    L4 is (L5 + 1) / (2 * sin(Phi1 * pi / 180)).
+    row_height_(R, G),
+    L2 is G * (1 + L6) / (2 * sin(Phi2 * pi / 180)),
+    L4 is G * (L5 + 1) / (2 * sin(Phi1 * pi / 180)).
 % a2 for b2: phi2 = phi4 = pi - theta1 (a parallelogram).
-feature_action(b2, ctx(_, _, T1, _, _, _, _), a2(Phi, Phi)) :-
+feature_action(b2, ctx(_, _, T1, _, _, _, _, _), a2(Phi, Phi)) :-
     Phi is 180 - T1.
 % a3 for b3: link N5 (the paper's N3) and N4.
 feature_action(b3, _, a3).
@@ -60,7 +67,7 @@ feature_action(b3, _, a3).
 % and N4) would put 180 - theta1 at N3. Among elements in the tip's
 % wedge the kite also has the least taper (its sides at N3 are the
 % longest a corner of at most U_c at N2 and N4 allows).
-feature_action(tip, ctx(_, _, T1, _, _, L5, _), a2(Phi2, Phi4)) :-
+feature_action(tip, ctx(_, _, T1, _, _, L5, _, _), a2(Phi2, Phi4)) :-
     tip_triangle_(T1, L5, B2, B4),
     tip_cap_(B2, G2),
     tip_cap_(B4, G4),
@@ -68,9 +75,12 @@ feature_action(tip, ctx(_, _, T1, _, _, L5, _), a2(Phi2, Phi4)) :-
     Phi4 is B4 + G4.
 % a4 for b4: N3 at the centre of the block.
 feature_action(b4, _, a4).
+% t3 for coarsen: the three edges become one over two rows, the first
+% row as high as the edges are long.
+feature_action(coarsen, _, t3(1.0)).
 % a5 for b5: phi4 = pi - theta1, phi2 = theta5/(theta1 + theta5) * theta2,
 % kept within [30, 150] so that both elements at N2 stay usable.
-feature_action(b5, ctx(_, _, T1, T2, T5, _, _), a2(Phi2, Phi4)) :-
+feature_action(b5, ctx(_, _, T1, T2, T5, _, _, _), a2(Phi2, Phi4)) :-
     Phi4 is 180 - T1,
     Phi2 is min(150, max(30, T5 / (T1 + T5) * T2)).
 
@@ -106,6 +116,12 @@ corner_a2_(T1, Phi) :-
     ;   Phi is 180 - T1
     ).
 
+% How much higher than usual a row is made where the size aimed for is R
+% times the edge: 1 in a uniform run (R = 1).
+row_height_(R, G) :-
+    bound(row_growth, M),
+    G is max(1, min(M, R)).
+
 corner_share_(Theta, Phi) :-
     bound(reflex_split, R),
     (   Theta =< R -> Phi is Theta / 2
@@ -115,7 +131,7 @@ corner_share_(Theta, Phi) :-
 %% context_design(+Ctx, -Feature, -Action)
 %
 % The first feature of the strategy the edge shows, and its action.
-% ?- context_design(ctx(90, 180, 90, 180, 90, 1, 1), F, A).
+% ?- context_design(ctx(90, 180, 90, 180, 90, 1, 1, 1), F, A).
 %    F = b4, A = a4.
 context_design(Ctx, F, A) :-
     context_feature(Ctx, F),
@@ -126,8 +142,8 @@ context_design(Ctx, F, A) :-
 %
 % Batch form for the host: one d(Feature, Action) per context, or none
 % when the edge shows no feature.
-% ?- context_designs([ctx(180, 180, 180, 180, 180, 1, 1),
-%                     ctx(90, 90, 300, 90, 90, 1, 1)], Ds).
+% ?- context_designs([ctx(180, 180, 180, 180, 180, 1, 1, 1),
+%                     ctx(90, 90, 300, 90, 90, 1, 1, 1)], Ds).
 %    Ds = [d(b1, a1(90.0, 90.0, 1.0, 1.0)), none].
 context_designs([], []).
 context_designs([C | Cs], [D | Ds]) :-

@@ -22,7 +22,7 @@ The constraints (paper, "Redesign subsystem"):
 ```
 ?- violation(corner_segment(n3, 0.1, 0.0, 1.0), V).
    V = near_boundary(n3).
-?- redesign(ctx(180,180,180,180,180,1,1), a1(90,90,1,1),
+?- redesign(ctx(180,180,180,180,180,1,1,1), a1(90,90,1,1),
             [edge_point(e23, 0.1, 0, 1, 270)], R, A).
    R = rd1, A = a1(90, 76.5, 1, 1).
 ```
@@ -60,7 +60,7 @@ violation(remaining_corner(N, Deg), small_remaining(N)) :-
 %% redesign_rule(?Rule, +Ctx, +Action, +Violation, -NewAction)
 %
 % Rule corrects Action, which commits Violation, into NewAction.
-% ?- redesign_rule(R, ctx(180, 180, 180, 180, 180, 1, 1), a2(90, 90),
+% ?- redesign_rule(R, ctx(180, 180, 180, 180, 180, 1, 1, 1), a2(90, 90),
 %                  near_boundary(n3), A).
 %    R = rd6, A = a2(81.0, 81.0) ;  false.
 
@@ -99,30 +99,30 @@ redesign_rule(rd8, _, a2(P2, P4), near_concave(e34), a2(P2, Q4)) :-
 % (shift(1, A): act on the next edge, whose N1 is this N2), else by a1.
 % The a2 over a corner is design.pl's: a parallelogram, or the kite of a
 % tip.
-redesign_rule(rd9, ctx(_, _, T1, _, _, _, _), a3, small_corner(n3), a2(P, P)) :-
+redesign_rule(rd9, ctx(_, _, T1, _, _, _, _, _), a3, small_corner(n3), a2(P, P)) :-
     corner_a2_(T1, P).
-redesign_rule(rd9, ctx(_, _, T1, _, _, _, _), a3, large_corner(n4), a2(P, P)) :-
+redesign_rule(rd9, ctx(_, _, T1, _, _, _, _, _), a3, large_corner(n4), a2(P, P)) :-
     corner_a2_(T1, P).
-redesign_rule(rd10, ctx(_, _, _, T2, _, _, _), a3, small_corner(n4), shift(1, a2(P, P))) :-
+redesign_rule(rd10, ctx(_, _, _, T2, _, _, _, _), a3, small_corner(n4), shift(1, a2(P, P))) :-
     corner_a2_(T2, P).
-redesign_rule(rd10, ctx(_, _, _, T2, _, _, _), a3, large_corner(n3), shift(1, a2(P, P))) :-
+redesign_rule(rd10, ctx(_, _, _, T2, _, _, _, _), a3, large_corner(n3), shift(1, a2(P, P))) :-
     corner_a2_(T2, P).
-redesign_rule(rd11, ctx(_, _, T1, _, _, _, _), a3, small_remaining(n3), a2(P, P)) :-
+redesign_rule(rd11, ctx(_, _, T1, _, _, _, _, _), a3, small_remaining(n3), a2(P, P)) :-
     corner_a2_(T1, P).
-redesign_rule(rd12, ctx(_, _, _, T2, _, _, _), a3, small_remaining(n4), shift(1, a2(P, P))) :-
+redesign_rule(rd12, ctx(_, _, _, T2, _, _, _, _), a3, small_remaining(n4), shift(1, a2(P, P))) :-
     corner_a2_(T2, P).
 % Otherwise a1 over the edge, which shares the corners at N1 and N2: not
 % when either is a tip (a tip is taken whole, never shared).
-redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6), a3, _, A) :-
+redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6, _), a3, _, A) :-
     not_tip_(T1), not_tip_(T2),
-    feature_action(b1, ctx(_, _, T1, T2, _, L5, L6), A).
+    feature_action(b1, ctx(_, _, T1, T2, _, L5, L6, _), A).
 
 %% redesign(+Ctx, +Action, +Relations, -Rule, -NewAction)
 %
 % The first violated constraint among Relations that a rule corrects:
 % which rule fires and the corrected action. Fails when nothing is
 % violated (or no rule applies).
-% ?- redesign(ctx(180, 180, 180, 180, 180, 1, 1), a1(90, 90, 1, 1),
+% ?- redesign(ctx(180, 180, 180, 180, 180, 1, 1, 1), a1(90, 90, 1, 1),
 %             [outer_corner(n1, 90)], R, A).
 %    false.
 redesign(Ctx, A, Relations, Rule, NewA) :-

@@ -8,7 +8,7 @@ the other bounds keep the values below).
 
 ```
 ?- strategy(S).
-   S = [tip,b4,b5,b3,b2,b1].
+   S = [tip,b4,b5,b3,coarsen,b2,b1].
 ?- bound(upper_corner, U).
    U = 135.
 ```
@@ -27,8 +27,8 @@ the other bounds keep the values below).
 % element must take it whole), and the fronts that grow round it only
 % narrow it.
 % ?- strategy(S).
-%    S = [tip,b4,b5,b3,b2,b1].
-strategy([tip, b4, b5, b3, b2, b1]).
+%    S = [tip,b4,b5,b3,coarsen,b2,b1].
+strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 
 %% bound(?Name, ?Value)
 %
@@ -87,6 +87,15 @@ strategy([tip, b4, b5, b3, b2, b1]).
 %   many element sizes over most of their length get one segment count,
 %   so that one structured row of elements fills the wall between them
 %   (0: never).
+% size_growth: in a graded run (a max_size above the size), the size
+%   aimed for grows this much a unit of distance from the boundary, up
+%   to max_size (Gmsh's graded meshes grow 0.2).
+% coarsen_ratio: where the size aimed for is this many times a flat
+%   front's edges, three of them become one over two rows (feature
+%   coarsen, design.pl).
+% row_growth: in a graded run, a row (b1's a1) is made up to this many
+%   times higher than usual where the size aimed for is that much above
+%   the edge's length.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -114,3 +123,6 @@ bound(fallback_take_back, 0.25).
 bound(fallback_spacing, 1.5).
 bound(ring_corner_give, 10).
 bound(thin_wall, 2).
+bound(size_growth, 0.6).
+bound(coarsen_ratio, 1.5).
+bound(row_growth, 1.5).

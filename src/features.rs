@@ -4,10 +4,9 @@
 //! is the angles there and the neighbouring edges' lengths, and the KB
 //! names the feature (b1..b5) the edge shows.
 
-use glam::DVec2;
-
 use crate::front::{Front, Fv};
 use crate::kb::{Context, FrontFacts, KbError, KnowledgeBase};
+use crate::partial_mesh::PartialMesh;
 use crate::report::trace::Angles;
 
 /// The labelled occurrences around an oriented edge.
@@ -78,20 +77,23 @@ pub fn labels_shifted(front: &Front, lab: &Labels) -> Labels {
     }
 }
 
-/// The context of a labelled edge with its five angles measured.
-pub fn context(front: &Front, nodes: &[DVec2], lab: &Labels) -> Context {
+/// The context of a labelled edge of the run `pm` with its five angles
+/// measured.
+pub fn context(pm: &PartialMesh, lab: &Labels) -> Context {
+    let (front, nodes) = (&pm.front, &pm.mesh.nodes);
     let t = |fv| deg_round(front.angle(fv, nodes));
     context_given(
-        front,
-        nodes,
+        pm,
         lab,
         [t(lab.n7), t(lab.n4), t(lab.n1), t(lab.n2), t(lab.n5)],
     )
 }
 
 /// The context of a labelled edge with the five angles given: the
-/// neighbouring edges l5, l6 relative to N1N2 (two decimals).
-pub fn context_given(front: &Front, nodes: &[DVec2], lab: &Labels, t: [f64; 5]) -> Context {
+/// neighbouring edges l5, l6 relative to N1N2 (two decimals) and the
+/// grading ratio (`PartialMesh::grading_ratio`).
+pub fn context_given(pm: &PartialMesh, lab: &Labels, t: [f64; 5]) -> Context {
+    let (front, nodes) = (&pm.front, &pm.mesh.nodes);
     let pos = |fv: Fv| nodes[front.node(fv) as usize];
     let l1 = (pos(lab.n2) - pos(lab.n1)).length().max(1e-300);
     let r = |x: f64| ((x / l1) * 100.0).round() / 100.0;
@@ -103,6 +105,7 @@ pub fn context_given(front: &Front, nodes: &[DVec2], lab: &Labels, t: [f64; 5]) 
         t[4],
         r((pos(lab.n1) - pos(lab.n4)).length()),
         r((pos(lab.n5) - pos(lab.n2)).length()),
+        pm.grading_ratio(pos(lab.n1), pos(lab.n2)),
     ])
 }
 
@@ -154,11 +157,8 @@ pub struct FrontFeatures {
 /// The boundary features of a front, as the KB sees them: every node
 /// with its angle and whether it is concave, every edge in both readings
 /// with its feature and action (None: no feature).
-pub fn front_features(
-    front: &Front,
-    nodes: &[DVec2],
-    kb: &mut KnowledgeBase,
-) -> Result<FrontFeatures, KbError> {
+pub fn front_features(pm: &PartialMesh, kb: &mut KnowledgeBase) -> Result<FrontFeatures, KbError> {
+    let (front, nodes) = (&pm.front, &pm.mesh.nodes);
     let mut out = FrontFeatures::default();
     for l in front.live_loops() {
         for fv in front.loop_fvs(l) {
@@ -174,7 +174,7 @@ pub fn front_features(
             });
             for mirrored in [false, true] {
                 let lab = labels(front, fv, mirrored);
-                let ctx = context(front, nodes, &lab);
+                let ctx = context(pm, &lab);
                 let (feature, action) = kb.design_text(&ctx)?;
                 out.edges.push(EdgeFeature {
                     n1: front.node(lab.n1),
@@ -191,7 +191,8 @@ pub fn front_features(
 
 /// The front as facts for the KB (kb/front.pl): node_xy/3, front_edge/2,
 /// node_angle/2 and edge_context/3 for both readings of every edge.
-pub fn front_facts(front: &Front, nodes: &[DVec2]) -> FrontFacts {
+pub fn front_facts(pm: &PartialMesh) -> FrontFacts {
+    let (front, nodes) = (&pm.front, &pm.mesh.nodes);
     let mut facts = FrontFacts::default();
     let mut seen = rustc_hash::FxHashSet::default();
     for l in front.live_loops() {
@@ -207,9 +208,7 @@ pub fn front_facts(front: &Front, nodes: &[DVec2]) -> FrontFacts {
             for mirrored in [false, true] {
                 let lab = labels(front, fv, mirrored);
                 let from = front.node(lab.n1);
-                facts
-                    .contexts
-                    .push((n, next, from, context(front, nodes, &lab)));
+                facts.contexts.push((n, next, from, context(pm, &lab)));
             }
         }
     }

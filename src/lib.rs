@@ -55,6 +55,7 @@ mod repl;
 mod report;
 mod second_order;
 mod settings;
+mod size_field;
 mod smoothing;
 mod validity;
 

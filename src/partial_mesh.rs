@@ -13,6 +13,7 @@ use crate::input::boundary::Discretised;
 use crate::mesh::{Mesh, NodeKind};
 use crate::report::trace::{Angles, By, TraceStep, Veto};
 use crate::settings::HostBounds;
+use crate::size_field::SizeField;
 
 /// Counters of one meshing run.
 #[derive(Debug, Default, Clone, Copy)]
@@ -162,6 +163,8 @@ pub struct PartialMesh {
     /// The inner lines' segments, both ways: the domain lies on both
     /// sides of them (see `parts_a_line_seam`).
     line_segments: rustc_hash::FxHashSet<(u32, u32)>,
+    /// The size aimed for at each place, in a graded run (None: uniform).
+    pub size_field: Option<SizeField>,
 }
 
 impl PartialMesh {
@@ -214,8 +217,36 @@ impl PartialMesh {
             area,
             guard_loop_areas,
             line_segments,
+            size_field: None,
         };
         (pm, expected)
+    }
+
+    /// Makes the run graded: the size field grows from the boundary's
+    /// segments (each loop of the front as it is now) by `growth` a unit
+    /// of distance up to `max_size`.
+    pub fn grade(&mut self, growth: f64, max_size: f64) {
+        let mut segments = Vec::new();
+        for l in self.front.live_loops() {
+            let fvs = self.front.loop_fvs(l);
+            for (i, &fv) in fvs.iter().enumerate() {
+                let next = fvs[(i + 1) % fvs.len()];
+                segments.push((self.pos(fv), self.pos(next)));
+            }
+        }
+        self.size_field = SizeField::new(segments, growth, max_size);
+    }
+
+    /// The grading ratio of the edge from `a` to `b`: the size aimed for at
+    /// its middle over its length, in tenths (1 in a uniform run).
+    pub fn grading_ratio(&self, a: DVec2, b: DVec2) -> f64 {
+        match &self.size_field {
+            Some(f) => {
+                let l = (b - a).length().max(1e-300);
+                ((f.at((a + b) * 0.5) / l) * 10.0).round() / 10.0
+            }
+            None => 1.0,
+        }
     }
 
     /// Whether parting the loop at occurrences `m` and `o` of one node

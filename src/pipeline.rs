@@ -287,7 +287,7 @@ pub fn domain_features(
     let RunBoundary {
         disc, size, area, ..
     } = with_kb_bounds(domain, run_boundary, &settings)?;
-    let prepared = Prepared::new(disc, size, area, settings);
+    let prepared = Prepared::new(disc, size, area, settings).with_max_size(domain.max_size());
     Ok(Mesher::start_from(kb, prepared).front_features()?)
 }
 
@@ -435,7 +435,8 @@ pub fn prepare_run(
         disc, size, area, ..
     } = with_kb_bounds(domain, run_boundary, &settings)?;
     let boundary = disc.clone();
-    let prepared = Prepared::new(disc, size, area, settings);
+    let prepared = Prepared::new(disc, size, area, settings)
+        .with_max_size(opts.max_size.or(domain.max_size()));
     Ok(PreparedRun {
         prepared,
         domain: domain.clone(),

@@ -53,7 +53,7 @@ pub fn redesign(
         if round == rounds || rel.is_empty() {
             break;
         }
-        let ctx = context(&pm.front, &pm.mesh.nodes, &lab);
+        let ctx = context(pm, &lab);
         let Some(Redesigned { rule, action: new }) = kb.redesign(&ctx, &action, &rel)? else {
             break;
         };

@@ -216,13 +216,16 @@ pub struct HostBounds {
     /// `thin_wall`: edges facing each other closer than this many element
     /// sizes get one segment count (see input/thin_walls.rs).
     pub thin_wall: f64,
+    /// `size_growth`: in a graded run, how much the size aimed for grows
+    /// a unit of distance from the boundary (see size_field.rs).
+    pub size_growth: f64,
 }
 
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
         HostBounds::new([
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -230,7 +233,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 13] = [
+    pub const NAMES: [&'static str; 14] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -244,13 +247,14 @@ impl HostBounds {
         "fallback_spacing",
         "ring_corner_give",
         "thin_wall",
+        "size_growth",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 13]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall] =
+    pub fn new(v: [f64; 14]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -265,6 +269,7 @@ impl HostBounds {
             (0.0, f64::MAX),
             (0.1, f64::MAX),
             (0.0, 90.0),
+            (0.0, f64::MAX),
             (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
@@ -290,6 +295,7 @@ impl HostBounds {
             fallback_spacing,
             ring_corner_give,
             thin_wall,
+            size_growth,
         })
     }
 }
@@ -326,7 +332,7 @@ mod tests {
     #[test]
     fn a_negative_reach_is_refused() {
         let mut v = [
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6,
         ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();

@@ -61,7 +61,7 @@ fn a_file_setting_one_bound_leaves_the_others_as_they_were() {
             .take()
             .unwrap()
             .write_all(
-                b"context_feature(ctx(180, 180, 138, 138, 180, 1, 1), F).\n\
+                b"context_feature(ctx(180, 180, 138, 138, 180, 1, 1, 1), F).\n\
                   bound(lower_corner, L), bound(redesign_rounds, R), bound(near_node, K).\n",
             )
             .unwrap();

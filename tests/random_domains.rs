@@ -521,10 +521,30 @@ fn boundary_not_followed(mesh: &freemesh::Mesh, loops: u32) -> Option<(u32, u32)
 
 #[test]
 fn random_valid_domains_give_valid_all_quad_meshes() {
+    random_run(None, 40);
+}
+
+/// The same domains graded: an interior limit of six times the boundary
+/// size (the graded benchmark's), so the size field, the coarsening
+/// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K
+/// sets another multiple in the plain run instead).
+#[test]
+fn random_domains_graded_to_six_times_the_size_give_valid_meshes() {
+    random_run(Some(6.0), 20);
+}
+
+/// Meshes the run's seeds (`ratio`: an interior limit of that many times
+/// each domain's size) and checks every mesh.
+fn random_run(ratio: Option<f64>, default_count: u64) {
+    let ratio = ratio.or_else(|| {
+        std::env::var("FREEMESH_RANDOM_MAX_SIZE")
+            .ok()
+            .and_then(|s| s.parse().ok())
+    });
     let count: u64 = std::env::var("FREEMESH_RANDOM_DOMAINS")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(40);
+        .unwrap_or(default_count);
     let from: u64 = std::env::var("FREEMESH_RANDOM_FROM")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -569,7 +589,8 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
             }
         };
         let t0 = std::time::Instant::now();
-        let result = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {});
+        let opts = Options::default().with_max_size(ratio.map(|k| k * domain.size()));
+        let result = mesh_domain(&domain, &mut kb, &opts, &mut |_| {});
         if t0.elapsed().as_secs_f64() > 5.0 {
             eprintln!("seed {seed} took {:.1} s", t0.elapsed().as_secs_f64());
         }

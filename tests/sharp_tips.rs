@@ -36,7 +36,7 @@ fn every_context_gets_a_sound_action_and_a_tip_a_kite() {
         findall(C-A, ( member(T1, Ts), member(T2, Ts), member(T4, [0, 90, 180, 300]), \
             member(T7, [90, 180]), member(T5, [90, 180]), \
             member(L5, [0.5, 1.0, 2.0]), member(L6, [0.5, 1.0, 2.0]), \
-            C = ctx(T7, T4, T1, T2, T5, L5, L6), context_design(C, _, A), \
+            C = ctx(T7, T4, T1, T2, T5, L5, L6, 1), context_design(C, _, A), \
             \\+ ( A = a1(P1, P2, M2, M4) -> P1 > 0, P1 < 180, P2 > 0, P2 < 180, M2 > 0, M4 > 0 \
                ; A = a2(P2, P4) -> P2 > 0, P2 < 180, P4 > 0, P4 < 180 \
                ; true ) ), Bad).";
@@ -46,7 +46,7 @@ fn every_context_gets_a_sound_action_and_a_tip_a_kite() {
     // a tip is a feature of its own, taken by a kite with equal sides:
     // U_c - theta1/2 at N2 and N4, a right angle at N3
     for (t1, phi) in [(0, "135.0"), (5, "132.5"), (30, "120.0"), (44, "113.0")] {
-        let q = format!("context_design(ctx(180, 180, {t1}, 180, 180, 1.0, 1.0), F, a2(P, Q)).");
+        let q = format!("context_design(ctx(180, 180, {t1}, 180, 180, 1.0, 1.0, 1), F, a2(P, Q)).");
         let b = first_answer(&mut kb, &q).unwrap();
         let get = |n: &str| b.iter().find(|(k, _)| k == n).map(|(_, v)| v.clone());
         assert_eq!(get("F").as_deref(), Some("tip"), "{t1}: {b:?}");
@@ -59,7 +59,7 @@ fn every_context_gets_a_sound_action_and_a_tip_a_kite() {
     let b = first_answer(
         &mut kb,
         "findall(F-T1, ( member(T1, [0, 10, 44]), member(F, [b2, b4, b5]), \
-            feature(F, ctx(90, 180, T1, 180, 90, 1, 1)) ), Fs).",
+            feature(F, ctx(90, 180, T1, 180, 90, 1, 1, 1)) ), Fs).",
     )
     .unwrap();
     assert_eq!(b, vec![("Fs".to_string(), "[]".to_string())]);

@@ -12,16 +12,16 @@ ones, and the front it leaves keeps straight angles at N2 and N4.
     freemesh mesh examples/plugger.json --kb examples/kb/sharp-corner.pl -o after.svg
 
 ```
-?- feature(b6, ctx(180, 180, 40, 180, 180, 1, 1)).
+?- feature(b6, ctx(180, 180, 40, 180, 180, 1, 1, 1)).
    true.
-?- context_design(ctx(180, 180, 40, 180, 180, 1, 1), F, A).
+?- context_design(ctx(180, 180, 40, 180, 180, 1, 1, 1), F, A).
    F = b6, A = a2(90, 90).
 ```
 */
 
 %% feature(b6, +Ctx): theta1 below 60 with open nodes N2 and N4 beside it
 %% (between 160 and 200 deg: on a nearly straight side).
-feature(b6, ctx(_, T4, T1, T2, _, _, _)) :-
+feature(b6, ctx(_, T4, T1, T2, _, _, _, _)) :-
     T1 < 60, open_side_(T2), open_side_(T4).
 
 open_side_(T) :- T >= 160, T =< 200.

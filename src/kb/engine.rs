@@ -461,7 +461,7 @@ impl Answerer for KnowledgeBase {
 mod tests {
     use super::*;
 
-    const DESIGN_B1: &str = "fm_design(ctx(180, 180, 180, 180, 180, 1.0, 1.0), R).";
+    const DESIGN_B1: &str = "fm_design(ctx(180, 180, 180, 180, 180, 1.0, 1.0, 1.0), R).";
 
     #[test]
     fn a_rule_a_users_query_adds_is_bounded_again() {
@@ -503,8 +503,8 @@ mod tests {
             .iter()
             .flat_map(|t| {
                 [
-                    design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")),
-                    design_question(&format!("ctx(90, 180, 90, {t}, 90, 0.8, 1.2)")),
+                    design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0, 1)")),
+                    design_question(&format!("ctx(90, 180, 90, {t}, 90, 0.8, 1.2, 1)")),
                 ]
             })
             .collect();
@@ -539,7 +539,7 @@ mod tests {
             .unwrap();
         kb.start_second_engine();
         let questions: Vec<Question> = (265..=275)
-            .map(|t| design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0)")))
+            .map(|t| design_question(&format!("ctx(180, 180, {t}, 180, 180, 1.0, 1.0, 1)")))
             .collect();
         let t0 = std::time::Instant::now();
         while kb.stats.second_engine_queries == 0 {

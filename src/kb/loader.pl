@@ -12,6 +12,7 @@ fm_known_action_(a1(_, _, _, _)).
 fm_known_action_(a2(_, _)).
 fm_known_action_(a3).
 fm_known_action_(a4).
+fm_known_action_(t3(_)).
 fm_known_action_(shift(_, A)) :- (var(A) -> true ; fm_known_action_(A)).
 fm_known_action_(merge(_, _)).
 
@@ -60,30 +61,31 @@ fm_design(Ctx, R) :-
     ;   Outcome = fault(Why), fm_design_culprit_(Ctx, Rule), R = fault(Rule, Why)
     ).
 
-%% fm_design_packed(+Angles, +H5, +H6, -R)
+%% fm_design_packed(+Angles, +H5, +H6, +HR, -R)
 %
 % fm_design/2 with the context packed by the host: the five angles
 % Theta7, Theta4, Theta1, Theta2, Theta5 as base-1000 digits of Angles,
-% L5 and L6 in hundredths (the query text is then short to read).
-fm_design_packed(P, H5, H6, R) :-
+% L5, L6 and the grading ratio in hundredths (the query text is then
+% short to read).
+fm_design_packed(P, H5, H6, HR, R) :-
     T5 is P mod 1000, P1 is P // 1000,
     T2 is P1 mod 1000, P2 is P1 // 1000,
     T1 is P2 mod 1000, P3 is P2 // 1000,
     T4 is P3 mod 1000, T7 is P3 // 1000,
-    L5 is H5 / 100.0, L6 is H6 / 100.0,
-    fm_design(ctx(T7, T4, T1, T2, T5, L5, L6), R).
+    L5 is H5 / 100.0, L6 is H6 / 100.0, G is HR / 100.0,
+    fm_design(ctx(T7, T4, T1, T2, T5, L5, L6, G), R).
 
 %% fm_designs(+Items, -Rs)
 %
 % fm_design/2 over a batch of edges, in one query: Items are p(Angles,
-% H5, H6) (packed as for fm_design_packed/4) or c(Ctx); Rs holds each
+% H5, H6, HR) (packed as for fm_design_packed/5) or c(Ctx); Rs holds each
 % one's R in order, or none where the edge shows no feature.
 fm_designs([], []).
 fm_designs([I | Is], [R | Rs]) :-
     (   fm_design_item_(I, R0) -> R = R0 ; R = none ),
     fm_designs(Is, Rs).
 
-fm_design_item_(p(P, H5, H6), R) :- fm_design_packed(P, H5, H6, R).
+fm_design_item_(p(P, H5, H6, HR), R) :- fm_design_packed(P, H5, H6, HR, R).
 fm_design_item_(c(Ctx), R) :- fm_design(Ctx, R).
 
 %% fm_redesign(+Ctx, +Action, +Relations, -R)

@@ -186,7 +186,7 @@ pub(super) fn fault_to_error(ans: Option<Term>, context: &str) -> Result<Option<
 
 impl Action {
     /// Reads an action term (`a1(P1, P2, L2, L4)`, `a2(P2, P4)`, `a3`, `a4`,
-    /// `shift(1, A)`, `merge(n3, A)`).
+    /// `t3(H)`, `shift(1, A)`, `merge(n3, A)`).
     pub fn from_term(t: &Term) -> Option<Action> {
         let nums = |args: &[Term]| -> Option<Vec<f64>> { args.iter().map(term_number).collect() };
         match t {
@@ -209,6 +209,9 @@ impl Action {
                         phi4: v[1],
                     })
                 }
+                ("t3", 1) => Some(Action::T3 {
+                    height: term_number(&args[0])?,
+                }),
                 ("shift", 2) if term_number(&args[0]) == Some(1.0) => {
                     Some(Action::Shift(Box::new(Action::from_term(&args[1])?)))
                 }
@@ -251,6 +254,7 @@ impl fmt::Display for Action {
             }
             Action::A3 => write!(f, "a3"),
             Action::A4 => write!(f, "a4"),
+            Action::T3 { height } => write!(f, "t3({})", fmt_float(r2(*height))),
             Action::Shift(a) => write!(f, "shift(1, {a})"),
             Action::Merge(c, a) => write!(
                 f,
@@ -262,28 +266,29 @@ impl fmt::Display for Action {
 }
 
 impl fmt::Display for Context {
-    /// The context term `ctx(T7, T4, T1, T2, T5, L5, L6)`.
+    /// The context term `ctx(T7, T4, T1, T2, T5, L5, L6, R)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let n = &self.0;
         write!(
             f,
-            "ctx({}, {}, {}, {}, {}, {}, {})",
+            "ctx({}, {}, {}, {}, {}, {}, {}, {})",
             n[0],
             n[1],
             n[2],
             n[3],
             n[4],
             fmt_float(n[5]),
-            fmt_float(n[6])
+            fmt_float(n[6]),
+            fmt_float(n[7])
         )
     }
 }
 
 /// The design question for a context, in as few tokens as the engine's
 /// reader allows (reading the query text is half the engine's cost): the
-/// five whole-degree angles packed in base 1000, the two length ratios in
-/// hundredths; `fm_design_packed/4` of the loader unpacks them into the
-/// same `ctx/7` term. Contexts it cannot pack exactly are asked as text.
+/// five whole-degree angles packed in base 1000, the two length ratios and
+/// the grading ratio in hundredths; `fm_design_packed/5` of the loader
+/// unpacks them into the same `ctx/8` term. Contexts it cannot pack exactly are asked as text.
 pub(super) fn design_question(ctx: &Context) -> String {
     match design_item(ctx) {
         DesignItem::Packed(p) => format!("fm_design_packed({p},R)."),
@@ -291,7 +296,7 @@ pub(super) fn design_question(ctx: &Context) -> String {
     }
 }
 
-/// A context as the loader's `fm_design_packed/4` reads it (`P,H5,H6`),
+/// A context as the loader's `fm_design_packed/5` reads it (`P,H5,H6,HR`),
 /// or `Text` where it cannot be packed exactly.
 enum DesignItem {
     Packed(String),
@@ -307,10 +312,15 @@ fn design_item(ctx: &Context) -> DesignItem {
         let h = (x * 100.0).round();
         (h.abs() < 1e15 && h / 100.0 == x).then_some(h as i64)
     };
-    match (angles_packable, hundredths(n[5]), hundredths(n[6])) {
-        (true, Some(h5), Some(h6)) => {
+    match (
+        angles_packable,
+        hundredths(n[5]),
+        hundredths(n[6]),
+        hundredths(n[7]),
+    ) {
+        (true, Some(h5), Some(h6), Some(hr)) => {
             let packed = n[..5].iter().fold(0i64, |p, &a| p * 1000 + a as i64);
-            DesignItem::Packed(format!("{packed},{h5},{h6}"))
+            DesignItem::Packed(format!("{packed},{h5},{h6},{hr}"))
         }
         _ => DesignItem::Text,
     }
@@ -592,8 +602,8 @@ pub(super) fn user_query_question(text: &str, limit: u64) -> String {
 pub(super) const BUILT_IN_PROBES: &[&str] = &[
     "strategy(_)",
     "point_segment_near(0, 0, 1)",
-    "context_feature(ctx(180,180,180,180,180,1,1), _)",
-    "context_design(ctx(180,180,180,180,180,1,1), _, _)",
+    "context_feature(ctx(180,180,180,180,180,1,1,1), _)",
+    "context_design(ctx(180,180,180,180,180,1,1,1), _, _)",
     "violation(outer_corner(n1, 10), _)",
     "loop_patterns([90,90,180,90,90,180], _)",
     "fm_known_action_(a3)",
@@ -662,15 +672,15 @@ mod tests {
 
     #[test]
     fn a_context_that_packs_exactly_is_asked_packed() {
-        let ctx = Context([90.0, 180.0, 270.0, 45.0, 0.0, 1.25, 0.5]);
+        let ctx = Context([90.0, 180.0, 270.0, 45.0, 0.0, 1.25, 0.5, 2.5]);
         assert_eq!(
             design_question(&ctx),
-            "fm_design_packed(90180270045000,125,50,R)."
+            "fm_design_packed(90180270045000,125,50,250,R)."
         );
-        let odd = Context([90.0, 180.0, 270.0, 45.0, 0.0, 1.255, 0.5]);
+        let odd = Context([90.0, 180.0, 270.0, 45.0, 0.0, 1.255, 0.5, 1.0]);
         assert_eq!(
             design_question(&odd),
-            "fm_design(ctx(90, 180, 270, 45, 0, 1.255, 0.5), R)."
+            "fm_design(ctx(90, 180, 270, 45, 0, 1.255, 0.5, 1.0), R)."
         );
     }
 
@@ -692,10 +702,10 @@ mod tests {
                 angle: 250.0,
             },
         ];
-        let ctx = Context([180.0; 7]);
+        let ctx = Context([180.0; 8]);
         assert_eq!(
             redesign_question(&ctx, &Action::A3, &rels),
-            "fm_redesign(ctx(180, 180, 180, 180, 180, 180.0, 180.0), a3, \
+            "fm_redesign(ctx(180, 180, 180, 180, 180, 180.0, 180.0, 180.0), a3, \
              [outer_corner(n2, 40.0), corner_node(n3, 0.25, 1.0), \
              edge_point(e34, 0.5, 0.125, 1.0, 250.0)], R)."
         );

@@ -41,6 +41,14 @@ pub enum Action {
     A3,
     /// a4: N3 at the centre of the block, (N2 + N4 + N6)/3.
     A4,
+    /// t3: three flat front edges N4N1, N1N2, N2N5 become one over two
+    /// rows (four elements; paving's row adjustment for a coarser
+    /// interior): new nodes above N1 and N2 at `height` times the edges'
+    /// mean length, above N4 and N5 at twice that.
+    T3 {
+        /// The first row's height over the edges' mean length.
+        height: f64,
+    },
     /// The action applied on the next edge along (redesign rules Rd10, Rd12).
     Shift(Box<Action>),
     /// The action with a new corner replaced by the nearest front node.
@@ -55,6 +63,7 @@ impl Action {
             Action::A2 { .. } => "a2",
             Action::A3 => "a3",
             Action::A4 => "a4",
+            Action::T3 { .. } => "t3",
             Action::Shift(a) | Action::Merge(_, a) => a.kind(),
         }
     }
@@ -73,6 +82,7 @@ impl Action {
             }
             Action::A2 { phi2, phi4 } => ang(*phi2) && ang(*phi4),
             Action::A3 | Action::A4 => true,
+            Action::T3 { height } => height.is_finite() && *height > 0.0,
             Action::Shift(a) | Action::Merge(_, a) => a.is_sound(),
         }
     }
@@ -81,9 +91,11 @@ impl Action {
 /// The context of an oriented front edge as the KB sees it (Fig. 4's
 /// labelling, kb/features.pl): the angles theta7, theta4, theta1, theta2,
 /// theta5 at N7, N4, N1, N2, N5 in whole degrees, and the neighbouring
-/// edges l5 = |N4N1| and l6 = |N2N5| over |N1N2| in hundredths.
+/// edges l5 = |N4N1| and l6 = |N2N5| over |N1N2| in hundredths, and the
+/// grading ratio r: the size field's target at the edge over |N1N2|, in
+/// tenths (1 where the run is not graded).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Context(pub [f64; 7]);
+pub struct Context(pub [f64; 8]);
 
 /// What the design rules make of a context: the first feature of the
 /// strategy the edge shows, and its action.

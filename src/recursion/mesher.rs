@@ -6,6 +6,8 @@
 //! pass of the fallbacks works on the stuck loops and the recursion goes
 //! on.
 
+mod coarsen;
+
 use crate::fallback::{chords, rings, slits, unmesh};
 use crate::features::{
     angle_map, deg_round, front_facts, front_features, labels, FrontFeatures, Labels,
@@ -54,6 +56,8 @@ pub struct Prepared {
     size: f64,
     area: f64,
     set: Settings,
+    /// The interior's size limit of a graded run (None: uniform).
+    max_size: Option<f64>,
 }
 
 impl Prepared {
@@ -65,7 +69,16 @@ impl Prepared {
             size,
             area,
             set,
+            max_size: None,
         }
+    }
+
+    /// The run graded from the boundary's sizes up to `max_size` (the
+    /// size field, size_field.rs); uniform when it is None or no larger
+    /// than the size.
+    pub fn with_max_size(mut self, max_size: Option<f64>) -> Prepared {
+        self.max_size = max_size.filter(|&m| m > self.size * (1.0 + 1e-9));
+        self
     }
 }
 
@@ -120,9 +133,13 @@ impl<'k> Mesher<'k> {
             size,
             area,
             set,
+            max_size,
         } = prepared;
         let (mut pm, expected) = PartialMesh::new(disc, size, area);
         pm.host = set.host;
+        if let Some(m) = max_size {
+            pm.grade(set.host.size_growth, m);
+        }
         Mesher {
             kb,
             pm,
@@ -181,11 +198,7 @@ impl<'k> Mesher<'k> {
 
     /// The boundary features of the current front, as the KB sees them.
     pub fn front_features(&mut self) -> Result<FrontFeatures, MeshError> {
-        Ok(front_features(
-            &self.pm.front,
-            &self.pm.mesh.nodes,
-            self.kb,
-        )?)
+        Ok(front_features(&self.pm, self.kb)?)
     }
 
     /// Runs the recursion to the end.
@@ -349,7 +362,7 @@ impl<'k> Mesher<'k> {
 
     /// States the current front to the KB as facts (kb/front.pl).
     pub fn publish_front(&mut self) -> Result<(), MeshError> {
-        let facts = front_facts(&self.pm.front, &self.pm.mesh.nodes);
+        let facts = front_facts(&self.pm);
         self.kb.publish_front(&facts)?;
         Ok(())
     }
@@ -371,6 +384,9 @@ impl<'k> Mesher<'k> {
             return Ok(false);
         };
         let lab = labels(&self.pm.front, key / 2, key % 2 == 1);
+        if let Action::T3 { .. } = action {
+            return self.try_coarsen(lab, &action, &feature, angles);
+        }
         let Redesign {
             element: el,
             action,

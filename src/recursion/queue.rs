@@ -79,10 +79,10 @@ pub struct DesignQueue {
     /// The length of the queue when it was last pruned (all live then):
     /// it is pruned again once it holds twice that, most of it stale.
     queued_after_prune: usize,
-    /// The KB's answers by context (its seven numbers, as the query has
+    /// The KB's answers by context (its eight numbers, as the query has
     /// them): the same context gets the same answer, without building
     /// the query text again. Forgotten when the KB changes.
-    design_memo: HashMap<[u64; 7], u32>,
+    design_memo: HashMap<[u64; 8], u32>,
     /// The answers the memo points to (None: the context shows no feature).
     known: Vec<Option<KnownDesign>>,
     heap: BinaryHeap<Reverse<Candidate>>,
@@ -147,7 +147,7 @@ impl DesignQueue {
             return None;
         }
         let lab = labels(front, fv, mirrored);
-        let mut ctx = crate::features::context_given(front, &pm.mesh.nodes, &lab, [0.0; 5]);
+        let mut ctx = crate::features::context_given(pm, &lab, [0.0; 5]);
         for (i, n) in [lab.n7, lab.n4, lab.n1, lab.n2, lab.n5]
             .into_iter()
             .enumerate()

@@ -1,5 +1,5 @@
 % A feature that never ends at a reflex corner of about 270 degrees.
-feature(b6, ctx(_, _, T1, _, _, _, _)) :-
+feature(b6, ctx(_, _, T1, _, _, _, _, _)) :-
     T1 >= 265, T1 =< 275,
     spin_(T1).
 spin_(T) :- spin_(T).

@@ -1,0 +1,236 @@
+//! The transition to a coarser interior: the action t3 (kb/design.pl,
+//! feature coarsen). Three flat front edges b0b1, b1b2, b2b3 (N4N1,
+//! N1N2, N2N5) become one, t0t1, over two rows of four elements:
+//!
+//! ```text
+//!   t0 ------------------ t1
+//!   |  \               /  |
+//!   |   m1 --------- m2   |
+//!   |   |            |    |
+//!   b0--b1 --------- b2--b3
+//! ```
+//!
+//! b0 b1 m1 t0, b1 b2 m2 m1, b2 b3 t1 m2 and m1 m2 t1 t0; the front then
+//! reads b0 t0 t1 b3 (two edges fewer, so every loop stays even). The
+//! elements are committed one by one, as a1, a2, a2 and a3 would make
+//! them, each traced with the t3 that placed it.
+
+use glam::DVec2;
+
+use super::Mesher;
+use crate::features::{along, angle_map, labels, Labels};
+use crate::front::Fv;
+use crate::initial_design::QNode;
+use crate::kb::Action;
+use crate::recursion::MeshError;
+use crate::report::trace::{By, TraceStep, Veto};
+use crate::validity::{convex_angles, quad_clear, Vetoed};
+
+/// Where the four new nodes go: m1, m2 above b1, b2 at `height` times
+/// the edges' mean length, t0, t1 above b0, b3 at twice that (each along
+/// the normal of its side's edge, toward the domain).
+fn template_nodes(b: [DVec2; 4], side: f64, height: f64) -> [DVec2; 4] {
+    let normal = |a: DVec2, c: DVec2| {
+        let d = (c - a).normalize_or_zero();
+        DVec2::new(-d.y, d.x) * side
+    };
+    let (n01, n12, n23) = (normal(b[0], b[1]), normal(b[1], b[2]), normal(b[2], b[3]));
+    let mean = ((b[1] - b[0]).length() + (b[2] - b[1]).length() + (b[3] - b[2]).length()) / 3.0;
+    let h = height * mean;
+    let m1 = b[1] + (n01 + n12).normalize_or_zero() * h;
+    let m2 = b[2] + (n12 + n23).normalize_or_zero() * h;
+    [m1, m2, b[0] + n01 * 2.0 * h, b[3] + n23 * 2.0 * h]
+}
+
+/// A quad's corners counter-clockwise with its node ids (None: new).
+fn ccw(p: [DVec2; 4], ids: [Option<u32>; 4]) -> ([DVec2; 4], [Option<u32>; 4]) {
+    let area: f64 = (0..4).map(|i| p[i].perp_dot(p[(i + 1) % 4])).sum();
+    if area >= 0.0 {
+        (p, ids)
+    } else {
+        ([p[3], p[2], p[1], p[0]], [ids[3], ids[2], ids[1], ids[0]])
+    }
+}
+
+impl Mesher<'_> {
+    /// Carries out t3 over the labelled edge (N1N2 the middle one of the
+    /// three): checks the four elements against the front, then commits
+    /// them. False (a veto in the trace) when they do not fit.
+    pub(super) fn try_coarsen(
+        &mut self,
+        lab: Labels,
+        action: &Action,
+        feature: &str,
+        angles: [f64; 5],
+    ) -> Result<bool, MeshError> {
+        let Action::T3 { height } = *action else {
+            return Ok(false);
+        };
+        let b_fv = [lab.n4, lab.n1, lab.n2, lab.n5];
+        let b_id = b_fv.map(|fv| self.pm.front.node(fv));
+        let b = b_id.map(|n| self.pm.mesh.nodes[n as usize]);
+        let side = if lab.mirrored { -1.0 } else { 1.0 };
+        let [m1, m2, t0, t1] = template_nodes(b, side, height);
+        let quads = [
+            (
+                [b[0], b[1], m1, t0],
+                [Some(b_id[0]), Some(b_id[1]), None, None],
+            ),
+            (
+                [b[1], b[2], m2, m1],
+                [Some(b_id[1]), Some(b_id[2]), None, None],
+            ),
+            (
+                [b[2], b[3], t1, m2],
+                [Some(b_id[2]), Some(b_id[3]), None, None],
+            ),
+            ([m1, m2, t1, t0], [None; 4]),
+        ];
+        let edge = [b_id[1] as i64, b_id[2] as i64];
+        let mean = (b[3] - b[0]).length() / 3.0;
+        let (lo, hi) = (self.pm.host.valid_corner, 180.0 - self.pm.host.valid_corner);
+        let gap = self.pm.host.valid_clearance * mean;
+        let mut why = None;
+        for (p, ids) in quads {
+            let (p, ids) = ccw(p, ids);
+            let fits = convex_angles(&p).is_some_and(|a| a.iter().all(|x| (lo..=hi).contains(x)));
+            if !fits {
+                why = Some(Vetoed::NotConvex);
+            } else if !quad_clear(&mut self.pm, p, &ids, gap) {
+                why = Some(Vetoed::Front);
+            }
+            if why.is_some() {
+                break;
+            }
+        }
+        if let Some(why) = why {
+            self.pm.note_veto(|before_step| Veto {
+                before_step,
+                edge,
+                feature: feature.to_string(),
+                action: action.to_string(),
+                reason: why.reason(),
+                outcome: "nothing",
+            });
+            return Ok(false);
+        }
+        // the four elements one by one, each over its own edge in the
+        // reading's direction, as a1, a2, a2, a3 commit them
+        let mir = lab.mirrored;
+        let edge_labels = |m: &Self, first: Fv| -> Labels {
+            let fv = if mir {
+                along(&m.pm.front, first, true)
+            } else {
+                first
+            };
+            labels(&m.pm.front, fv, mir)
+        };
+        let dummy_a2 = Action::A2 {
+            phi2: 90.0,
+            phi4: 90.0,
+        };
+        let steps: [(usize, QNode, QNode, Action); 3] = [
+            (
+                0,
+                QNode::New(m1),
+                QNode::New(t0),
+                Action::A1 {
+                    phi1: 90.0,
+                    phi2: 90.0,
+                    l2: 1.0,
+                    l4: 1.0,
+                },
+            ),
+            (1, QNode::New(m2), QNode::New(m1), dummy_a2.clone()),
+            (2, QNode::New(t1), QNode::New(m2), dummy_a2),
+        ];
+        let mut made = 0;
+        let mut m1_fv = None;
+        for (k, n3, n4, act) in steps {
+            let first = b_fv[k];
+            if !self.pm.front.alive(first) || !self.pm.front.alive(b_fv[k + 1]) {
+                break;
+            }
+            let l = edge_labels(self, first);
+            if l.n2 != b_fv[k + 1] {
+                break;
+            }
+            // the corner before N1 is the node the last element made
+            let n4 = if k == 0 { n4 } else { QNode::Front(l.n4) };
+            if k == 1 {
+                m1_fv = Some(l.n4);
+            }
+            let el = [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4];
+            if !self.commit_part(&el, &l, &act, edge, feature, action, angles)? {
+                break;
+            }
+            made += 1;
+        }
+        // the cap over the two middle nodes: m1 m2 t1 t0, as a3 links N4
+        // and N5
+        if let (3, Some(m1_fv)) = (made, m1_fv) {
+            if self.pm.front.alive(m1_fv) {
+                let l = edge_labels(self, m1_fv);
+                let el = [
+                    QNode::Front(l.n1),
+                    QNode::Front(l.n2),
+                    QNode::Front(l.n5),
+                    QNode::Front(l.n4),
+                ];
+                if self.commit_part(&el, &l, &Action::A3, edge, feature, action, angles)? {
+                    made += 1;
+                }
+            }
+        }
+        Ok(made > 0)
+    }
+
+    /// Commits one element of a t3 and traces it; false when the front
+    /// refuses it (a loop left odd or degenerate).
+    #[allow(clippy::too_many_arguments)]
+    fn commit_part(
+        &mut self,
+        el: &[QNode; 4],
+        lab: &Labels,
+        as_action: &Action,
+        edge: [i64; 2],
+        feature: &str,
+        action: &Action,
+        angles: [f64; 5],
+    ) -> Result<bool, MeshError> {
+        let ids = match self.commit_element(el, lab, as_action)? {
+            Ok(ids) => ids,
+            Err(_) => return Ok(false),
+        };
+        self.pm.stats.designed += 1;
+        self.pm.note_step(|step| TraceStep {
+            step,
+            edge,
+            angles: angle_map(&angles),
+            feature: feature.to_string(),
+            action: action.to_string(),
+            by: By::Rule,
+            redesign: Vec::new(),
+            element: ids.iter().map(|&x| x as i64).collect(),
+        });
+        Ok(true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn on_a_straight_front_the_template_is_two_rows_high() {
+        let b = [0.0, 1.0, 2.0, 3.0].map(|x| DVec2::new(x, 0.0));
+        let [m1, m2, t0, t1] = template_nodes(b, 1.0, 1.0);
+        assert!((m1 - DVec2::new(1.0, 1.0)).length() < 1e-12);
+        assert!((m2 - DVec2::new(2.0, 1.0)).length() < 1e-12);
+        assert!((t0 - DVec2::new(0.0, 2.0)).length() < 1e-12);
+        assert!((t1 - DVec2::new(3.0, 2.0)).length() < 1e-12);
+        // mirrored: the other side
+        let [m1, ..] = template_nodes(b, -1.0, 1.0);
+        assert!((m1 - DVec2::new(1.0, -1.0)).length() < 1e-12);
+    }
+}
