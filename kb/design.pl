@@ -110,8 +110,10 @@ tip_cap_(B, G) :-
 % The corners phi2 = phi4 of the element a2 stands over a corner N1 of
 % theta1: the parallelogram's pi - theta1 for a corner, the kite's
 % U_c - theta1/2 for a tip (the redesign rules that turn a3 into a2 use
-% it too).
+% it too). No such element stands over a node that is no corner (theta1
+% of 180 or more): fails there.
 corner_a2_(T1, Phi) :-
+    T1 < 180,
     (   tip_(T1) -> bound(upper_corner, U), Phi is U - T1 / 2
     ;   Phi is 180 - T1
     ).

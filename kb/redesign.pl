@@ -113,9 +113,9 @@ redesign_rule(rd12, ctx(_, _, _, T2, _, _, _, _), a3, small_remaining(n4), shift
     corner_a2_(T2, P).
 % Otherwise a1 over the edge, which shares the corners at N1 and N2: not
 % when either is a tip (a tip is taken whole, never shared).
-redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6, _), a3, _, A) :-
+redesign_rule(rd13, ctx(_, _, T1, T2, _, L5, L6, R), a3, _, A) :-
     not_tip_(T1), not_tip_(T2),
-    feature_action(b1, ctx(_, _, T1, T2, _, L5, L6, _), A).
+    feature_action(b1, ctx(_, _, T1, T2, _, L5, L6, R), A).
 
 %% redesign(+Ctx, +Action, +Relations, -Rule, -NewAction)
 %

@@ -145,3 +145,18 @@ fn the_kb_sees_and_changes_the_transition() {
         ["t3(1.0)"]
     );
 }
+
+#[test]
+fn a3_over_a_reflex_node_is_redesigned_into_a_row_that_reads_the_ratio() {
+    // random domain 864 graded: an a3 whose N1 is reflex (284 deg); rd9's
+    // parallelogram would have corners of -104 deg, and rd13's a1 must
+    // be asked with the context's grading ratio, not an unbound one
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let q =
+        "redesign_rule(R, ctx(215, 200, 284, 187, 217, 0.31, 0.32, 2.5), a3, small_corner(n3), A).";
+    let rules = answers(&mut kb, q, "R");
+    assert!(!rules.iter().any(|r| r == "rd9"), "{rules:?}");
+    assert!(rules.iter().any(|r| r == "rd13"), "{rules:?}");
+    let actions = answers(&mut kb, q, "A");
+    assert!(actions.iter().all(|a| a.starts_with("a1(")), "{actions:?}");
+}
