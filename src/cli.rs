@@ -128,8 +128,8 @@ pub struct MeshArgs {
     #[arg(long, action = clap::ArgAction::Set)]
     pub serendipity: Option<bool>,
     /// Largest interior element edge (replaces the domain's max_size); not
-    /// below the size; checked, not used yet: every element is made at
-    /// the size.
+    /// below the size. Above it the mesh is graded: fine at the boundary,
+    /// coarser inside up to this; equal to it, uniform.
     #[arg(long)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat

@@ -36,10 +36,10 @@ pub struct Options {
     /// five million elements.
     pub size: Option<f64>,
     /// Replaces the domain's `max_size` (default: the domain's own).
-    /// Checked (a positive number) but not used yet: every element is
-    /// made at `size`, as the paper's uniform meshes are. Graded meshes,
-    /// growing from `size` at the boundary to `max_size` inside, are
-    /// planned; until then the value changes nothing.
+    /// Above the size, the run is graded: the elements grow from the
+    /// boundary's sizes to at most this inside (size_field.rs, the KB's
+    /// feature coarsen); at the size or without one, every element is
+    /// made at `size`, as the paper's uniform meshes are.
     pub max_size: Option<f64>,
     /// Sweeps of Laplace smoothing (Eq. 4); default 30.
     pub smoothing_passes: usize,
