@@ -22,6 +22,8 @@ fn trace_text(path: &std::path::Path) -> String {
     s
 }
 
+/// `graded-square.json` has a `max_size`: its trace shows the coarsen
+/// rule's t3, four elements a step.
 #[test]
 fn traces_of_small_domains() {
     insta::glob!("inputs/*.json", |path| {
