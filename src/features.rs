@@ -109,10 +109,17 @@ pub fn context_given(pm: &PartialMesh, lab: &Labels, t: [f64; 5]) -> Context {
     ])
 }
 
-/// The trace's record of the angles a design saw.
-pub fn angle_map(angles: &[f64; 5]) -> Angles {
+/// The trace's record of the angles a design saw, and of the grading
+/// ratio where the run is graded (`ratio` is 1 in a uniform run, and left
+/// out there).
+pub fn angle_map(angles: &[f64; 5], ratio: f64) -> Angles {
     let names = ["theta7", "theta4", "theta1", "theta2", "theta5"];
-    Angles::new(names.into_iter().zip(angles.iter().copied()).collect())
+    let mut named: Vec<(&'static str, f64)> =
+        names.into_iter().zip(angles.iter().copied()).collect();
+    if ratio != 1.0 {
+        named.push(("ratio", ratio));
+    }
+    Angles::new(named)
 }
 
 /// A front node as the feature recognition sees it.

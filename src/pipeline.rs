@@ -563,34 +563,6 @@ impl<'k> Run<'k> {
     /// triangles split into quads, the rules' elements kept (see
     /// fallback/stuck_loops.rs). None when that fails or its mesh fails
     /// the check: the last resort then meshes the whole domain.
-    /// The element size the open loops are closed at: the run's size, or
-    /// in a graded run the mean of the loops' edges where that is larger
-    /// (the loops left inside are coarser than the boundary).
-    fn open_loop_size(&self, loops: &[Vec<u32>]) -> f64 {
-        let graded = self
-            .opts
-            .max_size
-            .or(self.domain.max_size())
-            .is_some_and(|m| m > self.size);
-        if !graded {
-            return self.size;
-        }
-        let nodes = self.mesher.mesh().nodes();
-        let (mut sum, mut n) = (0.0, 0usize);
-        for l in loops {
-            for (i, &a) in l.iter().enumerate() {
-                let b = l[(i + 1) % l.len()];
-                sum += (nodes[a as usize] - nodes[b as usize]).length();
-                n += 1;
-            }
-        }
-        if n == 0 {
-            self.size
-        } else {
-            (sum / n as f64).max(self.size)
-        }
-    }
-
     fn close_open_loops(
         &mut self,
         reason: &str,
@@ -603,7 +575,13 @@ impl<'k> Run<'k> {
             self.mesher.mesh(),
             &loops,
             &self.domain,
-            host.fallback_spacing * self.open_loop_size(&loops),
+            host.fallback_spacing
+                * crate::fallback::stuck_loops::open_loop_size(
+                    self.mesher.mesh(),
+                    &loops,
+                    self.size,
+                    self.opts.max_size.or(self.domain.max_size()),
+                ),
             Some(host.fallback_take_back * self.size * self.size),
         ) {
             Ok(c) => c,

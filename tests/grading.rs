@@ -89,8 +89,19 @@ fn a_graded_run_is_coarser_inside_and_stays_within_the_bounds() {
             .iter()
             .filter(|s| s.feature == "coarsen")
             .all(|s| s.action.starts_with("t3(")));
-        // a uniform run never coarsens
-        assert!(uniform.trace.iter().all(|s| s.feature != "coarsen"));
+        // each says the grading ratio it saw, at least coarsen_ratio
+        let ratio =
+            |s: &freemesh::TraceStep| s.angles.iter().find(|(k, _)| *k == "ratio").map(|(_, v)| v);
+        assert!(graded
+            .trace
+            .iter()
+            .filter(|s| s.feature == "coarsen")
+            .all(|s| ratio(s).is_some_and(|r| r >= 1.5)));
+        // a uniform run never coarsens, and its trace has no ratio
+        assert!(uniform
+            .trace
+            .iter()
+            .all(|s| s.feature != "coarsen" && ratio(s).is_none()));
     }
 }
 

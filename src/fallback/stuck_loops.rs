@@ -38,6 +38,29 @@ fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
+/// The element size open loops are closed at: the run's `size`, or in a
+/// graded run (a `max_size` above it) the mean of the loops' edges where
+/// that is larger (the loops left inside are coarser than the boundary).
+pub fn open_loop_size(mesh: &Mesh, loops: &[Vec<u32>], size: f64, max_size: Option<f64>) -> f64 {
+    if !max_size.is_some_and(|m| m > size) {
+        return size;
+    }
+    let nodes = mesh.nodes();
+    let (mut sum, mut n) = (0.0, 0usize);
+    for l in loops {
+        for (i, &a) in l.iter().enumerate() {
+            let b = l[(i + 1) % l.len()];
+            sum += (nodes[a as usize] - nodes[b as usize]).length();
+            n += 1;
+        }
+    }
+    if n == 0 {
+        size
+    } else {
+        (sum / n as f64).max(size)
+    }
+}
+
 /// Meshes the open `loops` (node ids of `mesh`, in loop order, the open
 /// region on their left) by triangles split into quads, and halves the
 /// elements of `mesh` along the chords that leave the loops. `spacing` is

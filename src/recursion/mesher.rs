@@ -379,13 +379,14 @@ impl<'k> Mesher<'k> {
             feature,
             action,
             angles,
+            ratio,
         }) = self.queue.design_of(key)
         else {
             return Ok(false);
         };
         let lab = labels(&self.pm.front, key / 2, key % 2 == 1);
         if let Action::T3 { .. } = action {
-            return self.try_coarsen(lab, &action, &feature, angles);
+            return self.try_coarsen(lab, &action, &feature, angle_map(&angles, ratio));
         }
         let Redesign {
             element: el,
@@ -439,7 +440,7 @@ impl<'k> Mesher<'k> {
         self.pm.note_step(|step| TraceStep {
             step,
             edge: [edge_nodes.0 as i64, edge_nodes.1 as i64],
-            angles: angle_map(&angles),
+            angles: angle_map(&angles, ratio),
             feature: feature.to_string(),
             action: action.to_string(),
             by: By::Rule,

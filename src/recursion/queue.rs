@@ -28,18 +28,22 @@ pub struct Candidate {
 }
 
 /// What the KB decided for an edge: its feature and action, and the
-/// angles it saw (theta7, theta4, theta1, theta2, theta5).
+/// angles it saw (theta7, theta4, theta1, theta2, theta5) and the grading
+/// ratio.
 #[derive(Debug, Clone, Copy)]
 struct Design {
     /// Index of the KB's answer in `DesignQueue::known`; NO_DESIGN: none.
     known: u32,
     /// The angles the context had (whole degrees, exact in f32).
     angles: [f32; 5],
+    /// The grading ratio in tenths, times ten (exact in f32).
+    ratio_tenths: f32,
 }
 
 const NO_DESIGN: Design = Design {
     known: u32::MAX,
     angles: [0.0; 5],
+    ratio_tenths: 10.0,
 };
 
 const NOT_FAILED: u32 = u32::MAX;
@@ -62,6 +66,8 @@ pub struct QueuedDesign {
     pub action: Action,
     /// theta7, theta4, theta1, theta2, theta5 (deg).
     pub angles: [f64; 5],
+    /// The grading ratio the KB saw (1 in a uniform run).
+    pub ratio: f64,
 }
 
 /// The queue of designs.
@@ -176,6 +182,7 @@ impl DesignQueue {
         self.design[key as usize] = Design {
             known,
             angles: std::array::from_fn(|i| ctx.0[i] as f32),
+            ratio_tenths: (ctx.0[7] * 10.0).round() as f32,
         };
     }
 
@@ -306,12 +313,17 @@ impl DesignQueue {
 
     /// The design queued for oriented edge `key`, if any.
     pub fn design_of(&self, key: u32) -> Option<QueuedDesign> {
-        let Design { known, angles } = self.design[key as usize];
+        let Design {
+            known,
+            angles,
+            ratio_tenths,
+        } = self.design[key as usize];
         let k = self.known.get(known as usize)?.as_ref()?;
         Some(QueuedDesign {
             feature: k.feature.clone(),
             action: k.action.clone(),
             angles: angles.map(f64::from),
+            ratio: f64::from(ratio_tenths) / 10.0,
         })
     }
 

@@ -143,12 +143,19 @@ pub struct TraceStep {
 impl TraceStep {
     /// One line of text, as the REPL prints it and the snapshot tests
     /// keep it: step, edge, feature -> action, the angles seen (whole
-    /// degrees), the redesign rules that fired, the element.
+    /// degrees) and in a graded run the grading ratio (tenths), the
+    /// redesign rules that fired, the element.
     pub fn to_text(&self) -> String {
         let angles: Vec<String> = self
             .angles
             .iter()
-            .map(|(k, v)| format!("{k}={v:.0}"))
+            .map(|(k, v)| {
+                if k == "ratio" {
+                    format!("{k}={v:.1}")
+                } else {
+                    format!("{k}={v:.0}")
+                }
+            })
             .collect();
         let redesign = if self.redesign.is_empty() {
             String::new()

@@ -18,12 +18,12 @@
 use glam::DVec2;
 
 use super::Mesher;
-use crate::features::{along, angle_map, labels, Labels};
+use crate::features::{along, labels, Labels};
 use crate::front::Fv;
 use crate::initial_design::QNode;
 use crate::kb::Action;
 use crate::recursion::MeshError;
-use crate::report::trace::{By, TraceStep, Veto};
+use crate::report::trace::{Angles, By, TraceStep, Veto};
 use crate::validity::{convex_angles, quad_clear, Vetoed};
 
 /// Where the four new nodes go: m1, m2 above b1, b2 at `height` times
@@ -61,7 +61,7 @@ impl Mesher<'_> {
         lab: Labels,
         action: &Action,
         feature: &str,
-        angles: [f64; 5],
+        angles: Angles,
     ) -> Result<bool, MeshError> {
         let Action::T3 { height } = *action else {
             return Ok(false);
@@ -161,7 +161,7 @@ impl Mesher<'_> {
                 m1_fv = Some(l.n4);
             }
             let el = [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4];
-            if !self.commit_part(&el, &l, &act, edge, feature, action, angles)? {
+            if !self.commit_part(&el, &l, &act, edge, feature, action, &angles)? {
                 break;
             }
             made += 1;
@@ -177,7 +177,7 @@ impl Mesher<'_> {
                     QNode::Front(l.n5),
                     QNode::Front(l.n4),
                 ];
-                if self.commit_part(&el, &l, &Action::A3, edge, feature, action, angles)? {
+                if self.commit_part(&el, &l, &Action::A3, edge, feature, action, &angles)? {
                     made += 1;
                 }
             }
@@ -196,7 +196,7 @@ impl Mesher<'_> {
         edge: [i64; 2],
         feature: &str,
         action: &Action,
-        angles: [f64; 5],
+        angles: &Angles,
     ) -> Result<bool, MeshError> {
         let ids = match self.commit_element(el, lab, as_action)? {
             Ok(ids) => ids,
@@ -206,7 +206,7 @@ impl Mesher<'_> {
         self.pm.note_step(|step| TraceStep {
             step,
             edge,
-            angles: angle_map(&angles),
+            angles: angles.clone(),
             feature: feature.to_string(),
             action: action.to_string(),
             by: By::Rule,
