@@ -580,7 +580,7 @@ impl<'k> Run<'k> {
                     self.mesher.mesh(),
                     &loops,
                     self.size,
-                    self.opts.max_size.or(self.domain.max_size()),
+                    self.mesher.is_graded(),
                 ),
             Some(host.fallback_take_back * self.size * self.size),
         ) {

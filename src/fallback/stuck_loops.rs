@@ -39,10 +39,10 @@ fn key(a: u32, b: u32) -> (u32, u32) {
 }
 
 /// The element size open loops are closed at: the run's `size`, or in a
-/// graded run (a `max_size` above it) the mean of the loops' edges where
-/// that is larger (the loops left inside are coarser than the boundary).
-pub fn open_loop_size(mesh: &Mesh, loops: &[Vec<u32>], size: f64, max_size: Option<f64>) -> f64 {
-    if !max_size.is_some_and(|m| m > size) {
+/// `graded` run the mean of the loops' edges where that is larger (the
+/// loops left inside are coarser than the boundary).
+pub fn open_loop_size(mesh: &Mesh, loops: &[Vec<u32>], size: f64, graded: bool) -> f64 {
+    if !graded {
         return size;
     }
     let nodes = mesh.nodes();

@@ -288,7 +288,8 @@ impl fmt::Display for Context {
 /// reader allows (reading the query text is half the engine's cost): the
 /// five whole-degree angles packed in base 1000, the two length ratios and
 /// the grading ratio in hundredths; `fm_design_packed/5` of the loader
-/// unpacks them into the same `ctx/8` term. Contexts it cannot pack exactly are asked as text.
+/// unpacks them into the same `ctx/8` term. Contexts it cannot pack
+/// exactly are asked as text.
 pub(super) fn design_question(ctx: &Context) -> String {
     match design_item(ctx) {
         DesignItem::Packed(p) => format!("fm_design_packed({p},R)."),

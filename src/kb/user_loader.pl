@@ -166,6 +166,9 @@ fm_probe_ctx_(ctx(90, 180, 90, 180, 90, 1, 1, 1)).
 fm_probe_ctx_(ctx(180, 180, 180, 180, 180, 1, 1, 1)).
 fm_probe_ctx_(ctx(100, 200, 60, 250, 120, 0.5, 2.0, 1)).
 fm_probe_ctx_(ctx(270, 90, 300, 45, 170, 1.5, 0.7, 1)).
+% a graded run's context: a flat front where the size aimed for is 2.5
+% times the edge
+fm_probe_ctx_(ctx(180, 180, 180, 180, 180, 1, 1, 2.5)).
 
 fm_probe_action_(a1(90, 90, 1, 1)).
 fm_probe_action_(a2(90, 90)).

@@ -165,6 +165,11 @@ impl<'k> Mesher<'k> {
         self.pm.stats
     }
 
+    /// Whether the run is graded (it has a size field).
+    pub fn is_graded(&self) -> bool {
+        self.pm.size_field.is_some()
+    }
+
     /// The settings in force, as read from the KB.
     pub fn settings(&self) -> &Settings {
         &self.set

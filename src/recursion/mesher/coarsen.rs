@@ -24,7 +24,7 @@ use crate::initial_design::QNode;
 use crate::kb::Action;
 use crate::recursion::MeshError;
 use crate::report::trace::{Angles, By, TraceStep, Veto};
-use crate::validity::{convex_angles, quad_clear, Vetoed};
+use crate::validity::element_valid;
 
 /// Where the four new nodes go: m1, m2 above b1, b2 at `height` times
 /// the edges' mean length, t0, t1 above b0, b3 at twice that (each along
@@ -40,16 +40,6 @@ fn template_nodes(b: [DVec2; 4], side: f64, height: f64) -> [DVec2; 4] {
     let m1 = b[1] + (n01 + n12).normalize_or_zero() * h;
     let m2 = b[2] + (n12 + n23).normalize_or_zero() * h;
     [m1, m2, b[0] + n01 * 2.0 * h, b[3] + n23 * 2.0 * h]
-}
-
-/// A quad's corners counter-clockwise with its node ids (None: new).
-fn ccw(p: [DVec2; 4], ids: [Option<u32>; 4]) -> ([DVec2; 4], [Option<u32>; 4]) {
-    let area: f64 = (0..4).map(|i| p[i].perp_dot(p[(i + 1) % 4])).sum();
-    if area >= 0.0 {
-        (p, ids)
-    } else {
-        ([p[3], p[2], p[1], p[0]], [ids[3], ids[2], ids[1], ids[0]])
-    }
 }
 
 impl Mesher<'_> {
@@ -71,38 +61,19 @@ impl Mesher<'_> {
         let b = b_id.map(|n| self.pm.mesh.nodes[n as usize]);
         let side = if lab.mirrored { -1.0 } else { 1.0 };
         let [m1, m2, t0, t1] = template_nodes(b, side, height);
+        // each of the four judged as any designed element is (labelled
+        // order, the reading's orientation)
+        let (f, n) = (QNode::Front, QNode::New);
         let quads = [
-            (
-                [b[0], b[1], m1, t0],
-                [Some(b_id[0]), Some(b_id[1]), None, None],
-            ),
-            (
-                [b[1], b[2], m2, m1],
-                [Some(b_id[1]), Some(b_id[2]), None, None],
-            ),
-            (
-                [b[2], b[3], t1, m2],
-                [Some(b_id[2]), Some(b_id[3]), None, None],
-            ),
-            ([m1, m2, t1, t0], [None; 4]),
+            [f(b_fv[0]), f(b_fv[1]), n(m1), n(t0)],
+            [f(b_fv[1]), f(b_fv[2]), n(m2), n(m1)],
+            [f(b_fv[2]), f(b_fv[3]), n(t1), n(m2)],
+            [n(m1), n(m2), n(t1), n(t0)],
         ];
         let edge = [b_id[1] as i64, b_id[2] as i64];
-        let mean = (b[3] - b[0]).length() / 3.0;
-        let (lo, hi) = (self.pm.host.valid_corner, 180.0 - self.pm.host.valid_corner);
-        let gap = self.pm.host.valid_clearance * mean;
-        let mut why = None;
-        for (p, ids) in quads {
-            let (p, ids) = ccw(p, ids);
-            let fits = convex_angles(&p).is_some_and(|a| a.iter().all(|x| (lo..=hi).contains(x)));
-            if !fits {
-                why = Some(Vetoed::NotConvex);
-            } else if !quad_clear(&mut self.pm, p, &ids, gap) {
-                why = Some(Vetoed::Front);
-            }
-            if why.is_some() {
-                break;
-            }
-        }
+        let why = quads
+            .iter()
+            .find_map(|q| element_valid(&mut self.pm, q, lab.mirrored).err());
         if let Some(why) = why {
             self.pm.note_veto(|before_step| Veto {
                 before_step,
