@@ -117,6 +117,13 @@ fn clean_up_on(
         k += 1;
         alive[k - 1]
     });
+    if !mesh.blocks.is_empty() {
+        let mut k = 0;
+        mesh.blocks.retain(|_| {
+            k += 1;
+            alive[k - 1]
+        });
+    }
     touched.sort_unstable();
     touched.dedup();
     (stats, touched)

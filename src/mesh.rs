@@ -72,6 +72,9 @@ pub struct Mesh {
     /// The groups of the lines that are cracks (`"crack": true`): the
     /// mesh is cut open along them when it is finished.
     pub(crate) crack_lines: Vec<u32>,
+    /// With `--blocks`, the block of each quad (0-based; `block 1` in the
+    /// outputs); empty otherwise.
+    pub(crate) blocks: Vec<u32>,
 }
 
 impl Mesh {
@@ -181,6 +184,17 @@ impl Mesh {
     /// The number of regions (at least one once the mesh is finished).
     pub fn region_count(&self) -> u32 {
         self.regions.iter().max().map_or(0, |&r| r + 1)
+    }
+
+    /// The block of each quad, when the mesh was made in blocks
+    /// (`--blocks`), else empty.
+    pub fn blocks(&self) -> &[u32] {
+        &self.blocks
+    }
+
+    /// How many blocks (0 unless the mesh was made in blocks).
+    pub fn block_count(&self) -> u32 {
+        self.blocks.iter().max().map_or(0, |&b| b + 1)
     }
 
     /// Total area of the quads.

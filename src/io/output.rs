@@ -202,7 +202,8 @@ fn bbox(mesh: &Mesh) -> (f64, f64, f64, f64) {
 /// Gmsh MSH 4.1 ASCII: the quads (type 3; second order: 16 with 8 nodes,
 /// 10 with 9) in a surface entity with the physical group "domain" (one
 /// entity a region, each also in the group `region K`, when lines part the
-/// domain), and one curve entity a boundary group (each input loop and
+/// domain; with `--blocks`, one entity a block, in the group `block K`,
+/// its region's and "domain"), and one curve entity a boundary group (each input loop and
 /// inner line, each tag, each crack face) with its boundary edges (type 1;
 /// second order: 8, the mid-edge node last) in a physical group of its
 /// name.
@@ -218,9 +219,16 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
     let regions = mesh.region_count() as usize;
     // one surface a region when there are several: physical tags ng + 2...
     let region_groups = if regions > 1 { regions } else { 0 };
+    // with blocks, one surface a block (tags after the regions'), each
+    // also in its region's group and in "domain"
+    let block_groups = mesh.block_count() as usize;
     let (x0, y0, x1, y1) = bbox(mesh);
     s.push_str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
-    let _ = writeln!(s, "$PhysicalNames\n{}", ng + 1 + region_groups);
+    let _ = writeln!(
+        s,
+        "$PhysicalNames\n{}",
+        ng + 1 + region_groups + block_groups
+    );
     for (i, g) in mesh.groups.iter().enumerate() {
         let _ = writeln!(s, "1 {} \"{}\"", i + 1, g.replace('"', "'"));
     }
@@ -228,13 +236,45 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
     for r in 0..region_groups {
         let _ = writeln!(s, "2 {} \"region {}\"", ng + 2 + r, r + 1);
     }
+    for b in 0..block_groups {
+        let _ = writeln!(s, "2 {} \"block {}\"", ng + 2 + region_groups + b, b + 1);
+    }
     s.push_str("$EndPhysicalNames\n");
-    let surfaces = regions.max(1);
+    let surfaces = if block_groups > 0 {
+        block_groups
+    } else {
+        regions.max(1)
+    };
     let _ = writeln!(s, "$Entities\n0 {ng} {surfaces} 0");
     for i in 0..ng {
         let _ = writeln!(s, "{} {x0} {y0} 0 {x1} {y1} 0 1 {} 0", i + 1, i + 1);
     }
-    if region_groups == 0 {
+    if block_groups > 0 {
+        // a block's region: that of its first quad
+        let mut region_of = vec![0usize; block_groups];
+        for (q, &b) in mesh.blocks.iter().enumerate().rev() {
+            region_of[b as usize] = mesh.regions.get(q).map_or(0, |&r| r as usize);
+        }
+        for (b, r) in region_of.iter().enumerate() {
+            let block_tag = ng + 2 + region_groups + b;
+            if region_groups == 0 {
+                let _ = writeln!(
+                    s,
+                    "{} {x0} {y0} 0 {x1} {y1} 0 2 {block_tag} {} 0",
+                    b + 1,
+                    ng + 1
+                );
+            } else {
+                let _ = writeln!(
+                    s,
+                    "{} {x0} {y0} 0 {x1} {y1} 0 3 {block_tag} {} {} 0",
+                    b + 1,
+                    ng + 2 + r,
+                    ng + 1
+                );
+            }
+        }
+    } else if region_groups == 0 {
         let _ = writeln!(s, "1 {x0} {y0} 0 {x1} {y1} 0 1 {} 0", ng + 1);
     } else {
         // the region's group first: a reader that keeps one physical
@@ -300,7 +340,13 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
         }
     }
     for r in 0..surfaces {
-        let in_region = |q: usize| region_groups == 0 || mesh.regions[q] as usize == r;
+        let in_region = |q: usize| {
+            if block_groups > 0 {
+                mesh.blocks[q] as usize == r
+            } else {
+                region_groups == 0 || mesh.regions[q] as usize == r
+            }
+        };
         let count = (0..mesh.quads.len()).filter(|&q| in_region(q)).count();
         let _ = writeln!(s, "2 {} {quad_type} {count}", r + 1);
         for q in 0..mesh.quads.len() {
@@ -325,7 +371,7 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
 /// as line cells (type 3), with one cell-data array a named group (1 on
 /// its edges, 0 elsewhere; spaces in the name written as `_`); where lines
 /// part the domain, the cell-data array `region` numbers each quad's
-/// region from 1 (0 on line cells).
+/// region from 1 (0 on line cells); with `--blocks`, `block` its block.
 pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
     let extra: &[glam::DVec2] = second.map_or(&[], |so| &so.nodes);
     let (per, cell_type) = match second.map(|so| so.kind) {
@@ -371,10 +417,19 @@ pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
     for _ in lines {
         s.push_str("3\n");
     }
-    if named.is_empty() && regions <= 1 {
+    if named.is_empty() && regions <= 1 && mesh.blocks.is_empty() {
         return s;
     }
     let _ = writeln!(s, "CELL_DATA {cells}");
+    if !mesh.blocks.is_empty() {
+        s.push_str("SCALARS block int 1\nLOOKUP_TABLE default\n");
+        for b in &mesh.blocks {
+            let _ = writeln!(s, "{}", b + 1);
+        }
+        for _ in lines {
+            s.push_str("0\n");
+        }
+    }
     if regions > 1 {
         s.push_str("SCALARS region int 1\nLOOKUP_TABLE default\n");
         for r in &mesh.regions {
@@ -395,6 +450,23 @@ pub fn to_vtk(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String {
         }
     }
     s
+}
+
+/// The element edges two blocks share, in order of their nodes.
+fn block_edges(mesh: &Mesh) -> Vec<(u32, u32)> {
+    let mut sides: Vec<((u32, u32), u32)> = Vec::with_capacity(4 * mesh.quads.len());
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        for k in 0..4 {
+            let (a, b) = (quad[k], quad[(k + 1) % 4]);
+            sides.push(((a.min(b), a.max(b)), mesh.blocks[q]));
+        }
+    }
+    sides.sort_unstable();
+    sides
+        .windows(2)
+        .filter(|w| w[0].0 == w[1].0 && w[0].1 != w[1].1)
+        .map(|w| w[0].0)
+        .collect()
 }
 
 /// The groups that are not an input loop's or line's: tags and crack
@@ -469,6 +541,26 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
         );
     }
     s.push_str("</g>\n");
+    if !mesh.blocks.is_empty() {
+        // the blocks' edges: element edges between two blocks
+        let _ = writeln!(
+            s,
+            "<g stroke=\"#1f5fbf\" stroke-width=\"{:.2}\" fill=\"none\">",
+            stroke * 2.5
+        );
+        for (a, b) in block_edges(mesh) {
+            let (a, b) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
+            let _ = writeln!(
+                s,
+                "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>",
+                tx(a.x),
+                ty(a.y),
+                tx(b.x),
+                ty(b.y)
+            );
+        }
+        s.push_str("</g>\n");
+    }
     if !front.is_empty() {
         let _ = writeln!(
             s,
@@ -492,7 +584,8 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
 /// JSON: name, nodes, quads (0-based ids), boundary edges with their
 /// groups (a tagged edge's group is its tag's, and it names its loop or
 /// line as `on`), the group names; where lines part the domain,
-/// `regions`: each quad's region, numbered from 1; second order: `nodes`
+/// `regions`: each quad's region, numbered from 1; with `--blocks`,
+/// `blocks`: each quad's block, from 1; second order: `nodes`
 /// holds the added nodes after the corners, and `elements` each element's
 /// 8 or 9 nodes (`element_type` `quad8` or `quad9`), `quads` still the
 /// corners.
@@ -520,6 +613,9 @@ pub fn to_json(mesh: &Mesh, second: Option<&SecondOrder>, name: &str) -> String 
         let per = so.kind.nodes();
         v["element_type"] = format!("quad{per}").into();
         v["elements"] = so.elements.chunks_exact(per).collect::<Vec<_>>().into();
+    }
+    if !mesh.blocks.is_empty() {
+        v["blocks"] = mesh.blocks.iter().map(|b| b + 1).collect::<Vec<_>>().into();
     }
     if mesh.region_count() > 1 {
         v["regions"] = mesh
