@@ -96,6 +96,12 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 % row_growth: in a graded run, a row (b1's a1) is made up to this many
 %   times higher than usual where the size aimed for is that much above
 %   the edge's length.
+% block_size: with --blocks, the rules first mesh the domain at this many
+%   times the element size; each of those elements becomes a block,
+%   meshed as a mapping element (src/blocks/).
+% block_arc_step: the layout divides arcs in steps of at most this many
+%   deg, so that a block's corners measured along an arc stay near the
+%   layout's, measured along the chord.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -126,3 +132,5 @@ bound(thin_wall, 2).
 bound(size_growth, 0.6).
 bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
+bound(block_size, 4).
+bound(block_arc_step, 45).

@@ -140,4 +140,11 @@ pub struct MeshArgs {
     /// ({stem} as for -o).
     #[arg(long)]
     pub trace: Option<PathBuf>,
+    /// Mesh in structured blocks (the paper's Fig. 17): the rules lay the
+    /// domain out in large quadrilaterals (bound(block_size, 4) element
+    /// sizes), each meshed as a mapping element, so most nodes are
+    /// regular; where the blocks' counts cannot agree, meshed free
+    /// (uniform: --max-size does not apply)
+    #[arg(long)]
+    pub blocks: bool,
 }

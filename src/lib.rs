@@ -33,6 +33,7 @@
 
 // One module a concept of the paper; the README's "How it works" maps
 // them to the stages in the order data flows through them.
+mod blocks;
 mod cleanup;
 mod cracks;
 mod element_quality;
@@ -60,6 +61,7 @@ mod smoothing;
 mod validity;
 
 // The entry point, what it takes and what it gives.
+pub use blocks::mesh_in_blocks;
 pub use input::domain::{Domain, DomainError};
 pub use kb::{KbError, KbStats, KnowledgeBase, More, UserAnswer};
 pub use mesh::{Mesh, NodeKind};

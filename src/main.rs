@@ -487,6 +487,7 @@ fn mesh_one(
         }
     };
     let result = match early_boundary {
+        _ if args.blocks => freemesh::mesh_in_blocks(&domain, kb, &opts, &mut progress),
         Some(b) => freemesh::mesh_boundary(&domain, b, kb, &opts, &mut progress),
         None => mesh_domain(&domain, kb, &opts, &mut progress),
     };

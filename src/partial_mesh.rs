@@ -55,6 +55,9 @@ pub struct MeshStats {
     /// Input edges given one segment count with the edges they face
     /// across a wall thinner than `bound(thin_wall, K)` element sizes.
     pub thin_wall_edges: usize,
+    /// With `--blocks`, the blocks meshed as mapping elements (the other
+    /// counts are then the block layout's); 0 otherwise.
+    pub blocks: usize,
 }
 
 impl MeshStats {
@@ -99,7 +102,12 @@ impl MeshStats {
             .iter()
             .map(|(by, n)| format!("{} {n}", by.name()))
             .collect();
-        format!("by {}; {} vetoes", parts.join(", "), self.vetoes)
+        let made = format!("by {}; {} vetoes", parts.join(", "), self.vetoes);
+        if self.blocks > 0 {
+            format!("in {} mapped blocks, laid out {made}", self.blocks)
+        } else {
+            made
+        }
     }
 }
 

@@ -671,7 +671,7 @@ impl<'k> Run<'k> {
 }
 
 /// The area inside the loops' boundary edges (groups below `loops`).
-fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
+pub(crate) fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
     mesh.boundary
         .iter()
         .filter(|e| e.group < loops)
@@ -704,7 +704,7 @@ fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Ve
 }
 
 /// The stages after the recursion: smoothing, clean-up, check, quality.
-fn finish_mesh(
+pub(crate) fn finish_mesh(
     outcome: Outcome,
     bounds: &ElementBounds,
     opts: &Options,

@@ -87,6 +87,9 @@ Commands:
   :consult FILE.pl    add the clauses of FILE to the KB now
   :step [N]           make N elements (default 1), print their trace lines
   :run                finish the mesh (smoothing included)
+  :blocks             mesh the domain in structured blocks instead (as
+                      mesh --blocks): the layout chosen, each block's
+                      element counts map(N, M), then :write or :svg it
   :front              the loops of the front: node(angle) in order
   :svg FILE.svg       draw the elements made so far and the front
   :write FILE         write the mesh (.msh, .vtk, .svg, .json: by extension);
@@ -109,6 +112,8 @@ pub struct Repl<'k> {
     trace: bool,
     /// The domain's name, for pictures and messages.
     name: String,
+    /// The domain loaded, for `:blocks`.
+    domain: Option<Domain>,
     /// The finished mesh, once `:run` or `:step` completed it.
     finished: Option<MeshResult>,
     /// Set from outside (Ctrl-C) to stop the query or run under way.
@@ -124,6 +129,7 @@ impl<'k> Repl<'k> {
             size,
             trace: true,
             name: String::new(),
+            domain: None,
             finished: None,
             interrupt: Arc::new(AtomicBool::new(false)),
         }
@@ -163,13 +169,48 @@ impl<'k> Repl<'k> {
         self.state = Some(State::Meshing(run));
         self.finished = None;
         self.name = domain.name.clone();
-        published?;
-        Ok(format!(
+        let summary = format!(
             "% loaded {}: {} front segments in {} loop(s)",
             domain.name,
             loops.iter().map(Vec::len).sum::<usize>(),
             loops.len()
-        ))
+        );
+        self.domain = Some(domain);
+        published?;
+        Ok(summary)
+    }
+
+    /// `:blocks`: the loaded domain meshed in blocks; the block steps of
+    /// its trace (with the trace on) and a summary line.
+    fn blocks(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        let Some(domain) = self.domain.clone() else {
+            return writeln!(out, "error: no domain loaded (:load DOMAIN.json)");
+        };
+        let opts = Options::default().with_size(self.size);
+        let r = match crate::blocks::mesh_in_blocks(&domain, self.kb(), &opts, &mut |_| {}) {
+            Ok(r) => r,
+            Err(e) => return writeln!(out, "error: {}", one_line(&e.to_string())),
+        };
+        if self.trace {
+            for t in r
+                .trace
+                .iter()
+                .filter(|t| t.by == crate::report::trace::By::Block)
+            {
+                writeln!(out, "{}", t.to_text())?;
+            }
+        }
+        writeln!(
+            out,
+            "% the mesh in blocks: {} quads, {} irregular interior nodes, angles {:.1}..{:.1} deg; made {}",
+            r.quality.quads,
+            crate::blocks::irregular_nodes(&r.mesh),
+            r.quality.min_angle,
+            r.quality.max_angle,
+            r.stats.made_by_text()
+        )?;
+        self.finished = Some(r);
+        Ok(())
     }
 
     /// Handles one line of input: a command or a query. `more` is asked
@@ -213,6 +254,7 @@ impl<'k> Repl<'k> {
                 Some(_) => writeln!(out, "error: :step takes a positive whole number")?,
             },
             ("run", None) => self.advance(None, out)?,
+            ("blocks", None) => self.blocks(out)?,
             ("front", None) => self.print_front(out)?,
             ("svg", Some(path)) => self.svg(path, out)?,
             ("write", Some(path)) => self.write(path, out)?,

@@ -219,13 +219,20 @@ pub struct HostBounds {
     /// `size_growth`: in a graded run, how much the size aimed for grows
     /// a unit of distance from the boundary (see size_field.rs).
     pub size_growth: f64,
+    /// `block_size`: with `--blocks`, the size of the block layout's
+    /// elements, in element sizes (see blocks/mod.rs).
+    pub block_size: f64,
+    /// `block_arc_step`: with `--blocks`, the layout divides arcs in
+    /// steps of at most this many degrees.
+    pub block_arc_step: f64,
 }
 
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
         HostBounds::new([
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
+            45.0,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -233,7 +240,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 14] = [
+    pub const NAMES: [&'static str; 16] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -248,13 +255,15 @@ impl HostBounds {
         "ring_corner_give",
         "thin_wall",
         "size_growth",
+        "block_size",
+        "block_arc_step",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 14]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth] =
+    pub fn new(v: [f64; 16]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -271,6 +280,8 @@ impl HostBounds {
             (0.0, 90.0),
             (0.0, f64::MAX),
             (0.0, f64::MAX),
+            (1.0, f64::MAX),
+            (1.0, 180.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -296,6 +307,8 @@ impl HostBounds {
             ring_corner_give,
             thin_wall,
             size_growth,
+            block_size,
+            block_arc_step,
         })
     }
 }
@@ -332,7 +345,8 @@ mod tests {
     #[test]
     fn a_negative_reach_is_refused() {
         let mut v = [
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6,
+            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
+            45.0,
         ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();

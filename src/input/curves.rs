@@ -86,6 +86,39 @@ impl Curve {
         }
     }
 
+    /// The parameter (as `point_at`'s) of the point of the curve closest
+    /// to `p`.
+    pub fn param_of(&self, p: DVec2) -> f64 {
+        match *self {
+            Curve::Line { a, b } => {
+                let d = b - a;
+                ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+            }
+            Curve::Arc { a, b, bulge } => {
+                let (c, _, a0, sweep) = Self::arc_frame(a, b, bulge);
+                let ang = (p.y - c.y).atan2(p.x - c.x);
+                let rel = ((ang - a0) * sweep.signum()).rem_euclid(2.0 * PI);
+                // past the end: the nearer end
+                if rel <= sweep.abs() {
+                    rel / sweep.abs()
+                } else if rel - sweep.abs() < 2.0 * PI - rel {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            Curve::Circle { center, .. } => {
+                let v = p - center;
+                (v.y.atan2(v.x) / (2.0 * PI)).rem_euclid(1.0)
+            }
+        }
+    }
+
+    /// Distance from `p` to the curve.
+    pub fn distance(&self, p: DVec2) -> f64 {
+        (self.project(p) - p).length()
+    }
+
     /// Projects `p` onto the curve: the closest point on it.
     pub fn project(&self, p: DVec2) -> DVec2 {
         match *self {

@@ -51,6 +51,9 @@ pub enum By {
     Unmesh,
     /// The last resort: the whole domain by triangles split into quads.
     Triangles,
+    /// With `--blocks`: a block of the layout meshed as a mapping
+    /// element (its elements, a step for the block).
+    Block,
 }
 
 impl By {
@@ -63,6 +66,7 @@ impl By {
             By::Ring => "ring",
             By::Unmesh => "unmesh",
             By::Triangles => "triangles",
+            By::Block => "block",
         }
     }
 }

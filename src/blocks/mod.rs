@@ -1,0 +1,486 @@
+//! Mapping elements generated automatically (the paper's Fig. 17,
+//! `freemesh mesh --blocks`): the rules mesh the domain at a coarse size
+//! (`bound(block_size, K)` element sizes), each of those elements becomes
+//! a block, the interval assignment gives every block edge its element
+//! count (intervals.rs), and each block is meshed as a mapping element by
+//! transfinite interpolation (mapping.rs). Most of the mesh is then a
+//! structured grid; irregular nodes sit only where blocks meet at the
+//! layout's irregular corners. Smoothing and clean-up then run over the
+//! whole mesh, across the blocks' edges, as after the recursion.
+//!
+//! Where no assignment exists (fixed counts on opposite sides that
+//! disagree, as in the paper's Fig. 18) or the layout cannot be made, the
+//! domain is meshed free by the rules at its size, and the trace's first
+//! step says why.
+
+mod free_blocks;
+pub mod intervals;
+mod mapping;
+
+use crate::input::curves::Curve;
+use crate::input::domain::Domain;
+use crate::kb::KnowledgeBase;
+use crate::pipeline::{
+    discretise_for_run, finish_mesh, mesh_domain, prepare_run, Error, MeshResult, Options, Run,
+};
+use crate::recursion::Outcome;
+use crate::report::trace::{By, TraceStep};
+use intervals::{Chords, FixedCount};
+
+/// The layout's element size is tried at `bound(block_size, K)`, then at
+/// three quarters and half of it (never under 1.5 element sizes): the
+/// first whose mesh is within the bounds is kept. Where none is, the
+/// domain is meshed free too, and the mesh with the fewest elements out
+/// of bounds kept (fewer irregular nodes deciding between equals).
+const LAYOUT_STEPS: [f64; 3] = [1.0, 0.75, 0.5];
+
+/// Meshes `domain` in blocks (see the module's comment).
+pub fn mesh_in_blocks(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    let settings = kb.settings()?;
+    let size = opts.size.unwrap_or(domain.size());
+    let kb_before = kb.stats;
+    let mut tried: Vec<String> = Vec::new();
+    // the layouts first (coarse: cheap), then the block meshes finished
+    // in order of their irregular nodes until one is within the bounds
+    let mut candidates: Vec<(usize, f64, Outcome)> = Vec::new();
+    if domain.lines.iter().any(|l| l.crack) {
+        tried.push("a domain with cracks is meshed free".into());
+    } else {
+        for step in LAYOUT_STEPS {
+            let factor = settings.host.block_size * step;
+            if step < 1.0 && factor < 1.5 {
+                break;
+            }
+            let coarse = size * factor;
+            let layout_opts = Options {
+                size: Some(coarse),
+                max_size: Some(coarse),
+                ..opts.clone()
+            };
+            let arc_step = settings.host.block_arc_step.to_radians();
+            let layout_domain = layout_for(domain, coarse, arc_step);
+            let outcome = match layout(&layout_domain, kb, &layout_opts) {
+                Err(why) => Err(why),
+                Ok(layout) => blocks_of(layout, domain, size, coarse, kb, opts.trace),
+            };
+            match outcome {
+                Err(why) => tried.push(format!("blocks of {factor} element sizes: {why}")),
+                Ok(o) => candidates.push((irregular_nodes(&o.mesh), factor, o)),
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let mut best: Option<(Score, MeshResult, f64)> = None;
+    for (_, factor, outcome) in candidates {
+        let kb_after = kb.stats;
+        let r = match finish_mesh(outcome, &settings.element, opts, kb_before, kb_after) {
+            Ok(mut r) => {
+                number_without_gaps(&mut r.mesh.blocks);
+                r
+            }
+            // a block mesh that fails the mesh check is not kept (the
+            // next layout, or the free mesh, is)
+            Err(Error::Check(e)) => {
+                tried.push(format!("blocks of {factor} element sizes: {e}"));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        let score = Score::of(&r, &settings.element, domain);
+        tried.push(format!(
+            "blocks of {factor} element sizes: {} elements out of bounds, {} irregular nodes",
+            score.outside, score.irregular
+        ));
+        let within = score.outside == 0;
+        if best.as_ref().is_none_or(|(b, _, _)| score < *b) {
+            best = Some((score, r, factor));
+        }
+        if within {
+            break;
+        }
+    }
+    if let Some((b, r, factor)) = best.take() {
+        if b.outside == 0 {
+            progress(r.mesh.quads.len());
+            return Ok(with_layout_step(r, factor, &tried));
+        }
+        best = Some((b, r, factor));
+    }
+    let mut free = mesh_domain(domain, kb, opts, progress)?;
+    let score = Score::of(&free, &settings.element, domain);
+    if let Some((b, r, factor)) = best {
+        if b < score {
+            return Ok(with_layout_step(r, factor, &tried));
+        }
+    }
+    tried.push(format!(
+        "free: {} elements out of bounds, {} irregular nodes",
+        score.outside, score.irregular
+    ));
+    if opts.trace {
+        free.trace.insert(0, free_step(&tried));
+        for (k, t) in free.trace.iter_mut().enumerate() {
+            t.step = k + 1;
+        }
+    }
+    Ok(free)
+}
+
+/// How far a mesh is from the bounds (elements with a corner outside the
+/// window, one more for each of aspect, taper and size jump above its
+/// bound), then its irregular interior nodes: less is better.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Score {
+    outside: usize,
+    irregular: usize,
+}
+
+impl Score {
+    fn of(r: &MeshResult, bounds: &crate::settings::ElementBounds, domain: &Domain) -> Score {
+        let q = &r.quality;
+        let over = |x: f64, bound: f64| usize::from(x > bound);
+        Score {
+            outside: corners_outside(&r.mesh, bounds, domain)
+                + over(q.max_aspect, bounds.max_aspect)
+                + over(q.max_taper, bounds.max_taper)
+                + over(q.max_size_jump, bounds.max_size_jump),
+            irregular: irregular_nodes(&r.mesh),
+        }
+    }
+}
+
+/// Elements with a corner outside the bounds' window, but for a corner
+/// sharper than the window at a vertex of the input (an element there
+/// cannot do better than the input's corner).
+fn corners_outside(
+    mesh: &crate::mesh::Mesh,
+    bounds: &crate::settings::ElementBounds,
+    domain: &Domain,
+) -> usize {
+    let tol = 1e-9 * domain.scale();
+    let vertices: Vec<glam::DVec2> = domain
+        .chains()
+        .flat_map(crate::input::curves::chain_vertices)
+        .collect();
+    let at_vertex = |p: glam::DVec2| vertices.iter().any(|v| (*v - p).length() <= tol);
+    mesh.quads
+        .iter()
+        .filter(|q| {
+            (0..4).any(|k| {
+                let p = mesh.nodes[q[k] as usize];
+                let a = mesh.nodes[q[(k + 1) % 4] as usize] - p;
+                let b = mesh.nodes[q[(k + 3) % 4] as usize] - p;
+                let angle = a.angle_to(b).abs().to_degrees();
+                (angle < bounds.lower_corner && !at_vertex(p)) || angle > bounds.upper_corner + 1e-9
+            })
+        })
+        .count()
+}
+
+/// Interior nodes (on no boundary edge) where other than four elements
+/// meet.
+pub fn irregular_nodes(mesh: &crate::mesh::Mesh) -> usize {
+    let n = mesh.nodes.len();
+    let mut on_boundary = vec![false; n];
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(4 * mesh.quads.len());
+    for q in &mesh.quads {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            edges.push((a.min(b), a.max(b)));
+        }
+    }
+    edges.sort_unstable();
+    let mut valence = vec![0usize; n];
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j] == edges[i] {
+            j += 1;
+        }
+        let (a, b) = edges[i];
+        valence[a as usize] += 1;
+        valence[b as usize] += 1;
+        if j - i == 1 {
+            on_boundary[a as usize] = true;
+            on_boundary[b as usize] = true;
+        }
+        i = j;
+    }
+    (0..n)
+        .filter(|&v| valence[v] > 0 && !on_boundary[v] && valence[v] != 4)
+        .count()
+}
+
+/// A block mesh's trace with a first step: the layout kept,
+/// `layout(F)` (blocks of F element sizes), and what each layout tried
+/// gave.
+fn with_layout_step(mut r: MeshResult, factor: f64, tried: &[String]) -> MeshResult {
+    if !r.trace.is_empty() {
+        let mut step = free_step(tried);
+        step.action = format!("layout({factor})");
+        r.trace.insert(0, step);
+        for (k, t) in r.trace.iter_mut().enumerate() {
+            t.step = k + 1;
+        }
+    }
+    r
+}
+
+/// The layout: `domain` meshed by the rules at the coarse size of
+/// `opts`. A layout the rules cannot finish is of no use (its open loops
+/// would be closed by triangles), so the run stops as soon as the rules
+/// stop, or once it has taken three times as many steps as elements are
+/// expected (the rules struggling: fallbacks taking elements back and
+/// splitting loops, long and to no use).
+fn layout(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options) -> Result<MeshResult, String> {
+    let coarse = opts.size.unwrap_or(domain.size());
+    let words = |e: Error| format!("the layout could not be made: {e}");
+    let boundary = discretise_for_run(domain, opts.size).map_err(words)?;
+    let prepared = prepare_run(domain, boundary, kb, opts).map_err(words)?;
+    let budget = 30 + 3 * (domain.area() / (coarse * coarse)) as usize;
+    let mut run = Run::start(kb, prepared);
+    let mut steps = 0;
+    while run.step().map_err(words)? {
+        steps += 1;
+        if steps > budget {
+            return Err(format!(
+                "the rules took over {budget} steps at size {coarse}"
+            ));
+        }
+    }
+    if run.stopped().is_some() {
+        return Err(format!("the rules stopped at size {coarse}"));
+    }
+    run.finish().map_err(words)
+}
+
+/// The domain the layout is made of: the same boundary at the coarse
+/// size, uniform, each fixed count cut down to what the coarse size
+/// gives (a block edge takes at least one element of the count).
+fn layout_for(domain: &Domain, coarse: f64, arc_step: f64) -> Domain {
+    let mut d = domain.clone();
+    d.size = coarse;
+    d.max_size = None;
+    let originals: Vec<&crate::input::curves::Chain> = domain.chains().collect();
+    let chains = std::iter::once(&mut d.outer)
+        .chain(d.holes.iter_mut())
+        .chain(d.lines.iter_mut());
+    for (chain, original) in chains.zip(originals) {
+        for e in &mut chain.edges {
+            let natural = ((e.curve.length() / coarse).round() as usize)
+                .max(crate::input::curves::min_arc_segments(&e.curve))
+                .max(1);
+            e.segments = match e.segments {
+                Some(n) => Some(n.min(natural)),
+                // an arc in short enough steps that a block's corner
+                // measured along the arc is within a few degrees of the
+                // layout's, measured along its chord (an even count
+                // leaves the loop's parity to its straight edges)
+                None if !matches!(e.curve, Curve::Line { .. }) => {
+                    let steps = (sweep(&e.curve) / arc_step).ceil() as usize;
+                    Some(natural.max(steps).next_multiple_of(2))
+                }
+                None => None,
+            };
+        }
+        // counts cut down can leave a loop whose every count is fixed
+        // odd: one more on the edge the cut took most from
+        let fixed: Option<Vec<usize>> = chain.edges.iter().map(|e| e.segments).collect();
+        if fixed.is_some_and(|n| n.iter().sum::<usize>() % 2 == 1) {
+            let cut = |i: usize| {
+                original.edges[i].segments.unwrap_or(0) as i64
+                    - chain.edges[i].segments.unwrap_or(0) as i64
+            };
+            if let Some(i) = (0..chain.edges.len())
+                .filter(|&i| cut(i) > 0)
+                .max_by_key(|&i| (cut(i), std::cmp::Reverse(i)))
+            {
+                chain.edges[i].segments = chain.edges[i].segments.map(|n| n + 1);
+            }
+        }
+    }
+    d
+}
+
+/// The fine mesh of a layout, with its trace: the layout's steps, then a
+/// step a block. Err says why no block mesh is made.
+fn blocks_of(
+    layout: MeshResult,
+    domain: &Domain,
+    size: f64,
+    coarse: f64,
+    kb: &mut KnowledgeBase,
+    record_trace: bool,
+) -> Result<Outcome, String> {
+    if layout.stats.triangle_fallbacks > 0 || layout.stats.open_loops_closed > 0 {
+        return Err(format!("the rules stopped at size {coarse}"));
+    }
+    let coarse = &layout.mesh;
+    let chords: Chords = intervals::chords(&coarse.quads);
+    let on_curve = mapping::boundary_curves(coarse, domain)
+        .ok_or("a block edge on the boundary lies on no input curve")?;
+    let targets: Vec<f64> = chords
+        .edges
+        .iter()
+        .map(|&(a, b)| {
+            let straight = (coarse.nodes[a as usize] - coarse.nodes[b as usize]).length();
+            let along = on_curve.get(&(a, b)).map_or(straight, |c| c.length());
+            along / size
+        })
+        .collect();
+    let fixed = fixed_counts(domain, &chords, &on_curve);
+    let (counts, apart) = intervals::assign(&chords, &targets, &fixed, true).map_err(|d| {
+        format!(
+            "the blocks' sides cannot share the counts: an input edge fixed at {} segments \
+                 crosses block chords that need {}",
+            d.count, d.chords_give
+        )
+    })?;
+    // each layout edge's count: its chord's, or its own where a fixed
+    // count disagreed; a block whose opposite sides then differ is free
+    let mut edge_counts: Vec<usize> = (0..chords.edges.len())
+        .map(|e| counts[chords.chord_of[e]])
+        .collect();
+    for &(e, n) in &apart {
+        edge_counts[e] = n;
+    }
+    let free: Vec<bool> = chords
+        .sides
+        .iter()
+        .map(|s| edge_counts[s[0]] != edge_counts[s[2]] || edge_counts[s[1]] != edge_counts[s[3]])
+        .collect();
+    let (mut mesh, edge_nodes) =
+        mapping::mesh_blocks(coarse, &chords, &edge_counts, &free, &on_curve)
+            .ok_or("a block's opposite sides disagree")?;
+    mesh.crack_lines = Vec::new();
+    let mut trace = layout.trace;
+    if free.iter().any(|&f| f) {
+        let steps = free_blocks::mesh_free_regions(
+            &mut mesh,
+            coarse,
+            &chords,
+            &edge_nodes,
+            &free,
+            kb,
+            size,
+            record_trace,
+        )?;
+        trace.extend(steps);
+    }
+    for (bi, q) in coarse.quads.iter().enumerate() {
+        if free[bi] {
+            continue;
+        }
+        let s = chords.sides[bi];
+        let (n, m) = (edge_counts[s[0]], edge_counts[s[1]]);
+        trace.push(TraceStep {
+            step: trace.len() + 1,
+            edge: [q[0] as i64, q[1] as i64],
+            angles: Default::default(),
+            feature: "block".into(),
+            action: format!("map({n}, {m})"),
+            by: By::Block,
+            redesign: vec![],
+            element: q.iter().map(|&x| x as i64).collect(),
+        });
+    }
+    for (k, t) in trace.iter_mut().enumerate() {
+        t.step = k + 1;
+    }
+    number_without_gaps(&mut mesh.blocks);
+    let mut stats = layout.stats;
+    stats.blocks = free.iter().filter(|&&f| !f).count();
+    let loops = 1 + domain.holes.len() as u32;
+    Ok(Outcome {
+        area: crate::pipeline::boundary_area(&mesh, loops),
+        mesh,
+        trace,
+        vetoes: layout.vetoes,
+        stats,
+    })
+}
+
+/// The blocks numbered from 0 without gaps, in their order: a region of
+/// free blocks is one block of the output, and the clean-up may take a
+/// small block's last element (an empty group is no use to a reader).
+fn number_without_gaps(blocks: &mut [u32]) {
+    let mut used = blocks.to_vec();
+    used.sort_unstable();
+    used.dedup();
+    for b in blocks {
+        *b = used.binary_search(b).expect("a block in use") as u32;
+    }
+}
+
+/// Each input edge with a fixed count: the layout edges along it.
+fn fixed_counts(
+    domain: &Domain,
+    chords: &Chords,
+    on_curve: &mapping::BoundaryCurves,
+) -> Vec<FixedCount> {
+    let mut out = Vec::new();
+    for chain in domain.chains() {
+        for e in &chain.edges {
+            let Some(count) = e.segments else { continue };
+            let edges: Vec<usize> = chords
+                .edges
+                .iter()
+                .enumerate()
+                .filter(|(_, k)| on_curve.get(k).is_some_and(|c| c.curve == e.curve))
+                .map(|(i, _)| i)
+                .collect();
+            if !edges.is_empty() {
+                out.push(FixedCount { edges, count });
+            }
+        }
+    }
+    out
+}
+
+/// The angle an edge turns through (0 for a line).
+fn sweep(c: &Curve) -> f64 {
+    match *c {
+        Curve::Line { .. } => 0.0,
+        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
+        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
+    }
+}
+
+/// The trace's step saying why a `--blocks` run meshed the domain free.
+fn free_step(why: &[String]) -> TraceStep {
+    TraceStep {
+        step: 1,
+        edge: [-1, -1],
+        angles: Default::default(),
+        feature: "block".into(),
+        action: "free".into(),
+        by: By::Block,
+        redesign: why.to_vec(),
+        element: vec![],
+    }
+}
+
+/// A layout edge on the boundary: the input curve it lies on and its
+/// ends' parameters.
+#[derive(Debug, Clone, Copy)]
+pub struct OnCurve {
+    /// The input curve.
+    pub curve: Curve,
+    /// The parameter of the edge's lower-id end.
+    pub from: f64,
+    /// The parameter of its other end (a circle's: the short way round,
+    /// possibly outside [0, 1)).
+    pub to: f64,
+}
+
+impl OnCurve {
+    /// The length along the curve.
+    pub fn length(&self) -> f64 {
+        self.curve.length() * (self.to - self.from).abs()
+    }
+}

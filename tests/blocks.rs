@@ -1,0 +1,306 @@
+//! Mapping elements generated automatically (the paper's Fig. 17,
+//! `--blocks`): the rules lay the domain out in large quadrilaterals,
+//! each meshed as a structured grid, so irregular nodes sit only where
+//! the layout has them.
+
+use freemesh::{mesh_domain, mesh_in_blocks, Domain, KnowledgeBase, MeshResult, Options};
+
+fn domain(v: serde_json::Value) -> Domain {
+    Domain::from_json(&v).expect("a valid domain")
+}
+
+fn load(path: &str) -> Domain {
+    let text = std::fs::read_to_string(path).expect("the domain file is there");
+    Domain::from_json(&serde_json::from_str(&text).expect("JSON")).expect("a valid domain")
+}
+
+fn in_blocks(kb: &mut KnowledgeBase, d: &Domain) -> MeshResult {
+    let opts = Options::default().with_trace(true);
+    mesh_in_blocks(d, kb, &opts, &mut |_| {}).expect("the domain meshes in blocks")
+}
+
+/// Interior nodes (on no edge of one element only) where other than four
+/// elements meet, as the judge counts them.
+fn irregular(r: &MeshResult) -> usize {
+    let mut edges: Vec<(u32, u32)> = r
+        .mesh
+        .quads()
+        .iter()
+        .flat_map(|q| (0..4).map(move |k| (q[k].min(q[(k + 1) % 4]), q[k].max(q[(k + 1) % 4]))))
+        .collect();
+    edges.sort_unstable();
+    let n = r.mesh.nodes().len();
+    let (mut valence, mut boundary) = (vec![0; n], vec![false; n]);
+    for (i, e) in edges.iter().enumerate() {
+        let once = (i == 0 || edges[i - 1] != *e) && edges.get(i + 1) != Some(e);
+        if i == 0 || edges[i - 1] != *e {
+            valence[e.0 as usize] += 1;
+            valence[e.1 as usize] += 1;
+        }
+        if once {
+            boundary[e.0 as usize] = true;
+            boundary[e.1 as usize] = true;
+        }
+    }
+    (0..n)
+        .filter(|&v| valence[v] > 0 && !boundary[v] && valence[v] != 4)
+        .count()
+}
+
+fn within_the_bounds(r: &MeshResult, name: &str) {
+    let q = &r.quality;
+    assert!(
+        q.min_angle >= 45.0 - 0.5 && q.max_angle <= 135.0 + 0.5,
+        "{name}: {q:?}"
+    );
+    assert!(q.max_aspect <= 10.0 && q.max_taper <= 10.0, "{name}: {q:?}");
+    assert!(q.max_size_jump <= 2.0, "{name}: {q:?}");
+}
+
+fn block_steps(r: &MeshResult) -> Vec<&freemesh::TraceStep> {
+    r.trace
+        .iter()
+        .filter(|t| t.by == freemesh::By::Block)
+        .collect()
+}
+
+#[test]
+fn a_rectangle_with_equal_opposite_sides_is_one_structured_grid() {
+    let d = domain(serde_json::json!({
+        "name": "plate", "size": 0.5,
+        "outer": { "points": [[0, 0], [12, 0], [12, 5], [0, 5]] }
+    }));
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = in_blocks(&mut kb, &d);
+    assert_eq!(irregular(&r), 0);
+    assert!(r.stats.blocks > 1, "{:?}", r.stats);
+    assert_eq!(r.mesh.blocks().len(), r.mesh.quads().len());
+    within_the_bounds(&r, "plate");
+    // about the free mesh's 24 x 10 elements (each chord of the layout
+    // rounds its own count)
+    let quads = r.mesh.quads().len() as f64;
+    assert!((0.8 * 240.0..=1.25 * 240.0).contains(&quads), "{quads}");
+}
+
+#[test]
+fn a_quadrilateral_with_an_arc_side_is_meshed_without_irregular_nodes() {
+    let d = domain(serde_json::json!({
+        "name": "arched", "size": 0.25,
+        "outer": { "points": [[0, 0], [6, 0], [6, 3], [0, 3]], "bulges": [0, 0, 0.15, 0] }
+    }));
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = in_blocks(&mut kb, &d);
+    assert_eq!(irregular(&r), 0);
+    within_the_bounds(&r, "arched");
+}
+
+#[test]
+fn blocks_leave_far_fewer_irregular_nodes_than_the_free_mesh_and_the_trace_shows_them() {
+    let d = load("../shared/bench/domains/plate-holes.json");
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let blocks = in_blocks(&mut kb, &d);
+    let free = mesh_domain(&d, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    within_the_bounds(&blocks, "plate-holes");
+    assert!(
+        4 * irregular(&blocks) < irregular(&free),
+        "blocks {} free {}",
+        irregular(&blocks),
+        irregular(&free)
+    );
+    // the first step names the layout kept, then the layout's own
+    // steps, then one step a block with its element counts
+    let steps = block_steps(&blocks);
+    assert!(steps[0].action.starts_with("layout("), "{:?}", steps[0]);
+    assert_eq!(steps.len(), 1 + blocks.stats.blocks);
+    assert!(steps[1..]
+        .iter()
+        .all(|t| t.action.starts_with("map(") && t.element.len() == 4));
+    assert!(
+        blocks.trace.iter().any(|t| t.by == freemesh::By::Rule),
+        "the layout's rules are traced"
+    );
+}
+
+#[test]
+fn blocks_whose_opposite_sides_cannot_agree_are_meshed_free_inside_the_layout() {
+    // sides fixed at 12/4/6/2: the blocks along the top and left sides
+    // cannot be mapping elements (the paper's Fig. 18); the rules mesh
+    // them, the others stay mapped
+    let d = load("../shared/bench/domains/mapping-unequal.json");
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let blocks = in_blocks(&mut kb, &d);
+    let free = mesh_domain(&d, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+    assert!(blocks.stats.blocks > 0, "{:?}", blocks.stats);
+    let steps = block_steps(&blocks);
+    assert!(
+        steps.iter().any(|t| t.action.starts_with("free(")),
+        "{steps:?}"
+    );
+    assert!(
+        steps.iter().any(|t| t.action.starts_with("map(")),
+        "{steps:?}"
+    );
+    // the free region's own rule steps follow its block step, on the
+    // fine mesh's node ids
+    let nodes = blocks.mesh.nodes().len() as i64;
+    assert!(blocks
+        .trace
+        .iter()
+        .flat_map(|t| t.element.iter())
+        .all(|&n| (-1..nodes).contains(&n)));
+    // the fixed counts kept: 24 boundary segments
+    assert_eq!(blocks.mesh.boundary().len(), 24);
+    within_the_bounds(&blocks, "mapping-unequal");
+    assert!(
+        irregular(&blocks) < irregular(&free),
+        "blocks {} free {}",
+        irregular(&blocks),
+        irregular(&free)
+    );
+}
+
+#[test]
+fn a_domain_with_a_crack_is_meshed_free_and_the_trace_says_why() {
+    let d = domain(serde_json::json!({
+        "name": "cracked", "size": 0.5,
+        "outer": { "points": [[0, 0], [6, 0], [6, 4], [0, 4]] },
+        "lines": [ { "points": [[0, 2], [3, 2]], "crack": true } ]
+    }));
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = in_blocks(&mut kb, &d);
+    assert_eq!(r.stats.blocks, 0);
+    assert_eq!(
+        (r.trace[0].feature.as_str(), r.trace[0].action.as_str()),
+        ("block", "free")
+    );
+    assert!(
+        r.trace[0].redesign[0].contains("cracks"),
+        "{:?}",
+        r.trace[0]
+    );
+    assert!(r.mesh.blocks().is_empty());
+}
+
+#[test]
+fn the_layout_size_is_the_kbs_bound() {
+    let d = domain(serde_json::json!({
+        "name": "plate", "size": 0.5,
+        "outer": { "points": [[0, 0], [12, 0], [12, 6], [0, 6]] }
+    }));
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let coarse = in_blocks(&mut kb, &d).stats.blocks;
+    kb.consult_file("tests/kb/block-size-2.pl").unwrap();
+    let finer = in_blocks(&mut kb, &d).stats.blocks;
+    assert!(
+        finer > 2 * coarse,
+        "block_size 2: {finer} blocks, 4: {coarse}"
+    );
+}
+
+#[test]
+fn fixed_counts_that_agree_are_kept_by_the_blocks() {
+    // opposite sides fixed alike (20 and 8): a structured grid of exactly
+    // 20 x 8 elements
+    let d = domain(serde_json::json!({
+        "name": "counted", "size": 0.5,
+        "outer": { "points": [[0, 0], [10, 0], [10, 4], [0, 4]], "segments": [20, 8, 20, 8] }
+    }));
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = in_blocks(&mut kb, &d);
+    assert!(r.stats.blocks > 0);
+    assert_eq!(r.mesh.quads().len(), 160);
+    assert_eq!(irregular(&r), 0);
+}
+
+/// The trace of an L-shape meshed in blocks: the layout kept, the
+/// layout's own steps (rules and patterns), then a step a block with its
+/// element counts. Review a changed snapshot with `cargo insta review`.
+#[test]
+fn the_trace_of_an_l_shape_in_blocks() {
+    let d = load("tests/inputs/l-shape.json");
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = in_blocks(&mut kb, &d);
+    let mut text = format!(
+        "{} quads in {} blocks, {} irregular interior nodes\n",
+        r.mesh.quads().len(),
+        r.stats.blocks,
+        irregular(&r)
+    );
+    for t in &r.trace {
+        text.push_str(&t.to_text());
+        text.push('\n');
+    }
+    insta::assert_snapshot!(text);
+}
+
+fn freemesh(args: &[&str], input: Option<&str>) -> std::process::Output {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut stdin = child.stdin.take().expect("a pipe");
+    stdin.write_all(input.unwrap_or("").as_bytes()).unwrap();
+    drop(stdin);
+    child.wait_with_output().expect("the binary ends")
+}
+
+#[test]
+fn the_command_line_writes_a_group_a_block() {
+    let dir = std::env::temp_dir().join(format!("freemesh-blocks-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (msh, json) = (dir.join("l.msh"), dir.join("l.json"));
+    let o = freemesh(
+        &[
+            "mesh",
+            "tests/inputs/l-shape.json",
+            "--blocks",
+            "-o",
+            msh.to_str().unwrap(),
+            "-o",
+            json.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("mapped blocks"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let blocks: Vec<u64> = v["blocks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b.as_u64().unwrap())
+        .collect();
+    assert_eq!(blocks.len(), v["quads"].as_array().unwrap().len());
+    let count = *blocks.iter().max().unwrap();
+    let text = std::fs::read_to_string(&msh).unwrap();
+    // one physical group and one surface entity a block, none empty
+    for b in 1..=count {
+        assert!(text.contains(&format!("\"block {b}\"")), "block {b}");
+        assert!(blocks.contains(&b));
+    }
+    assert!(!text.contains(&format!("\"block {}\"", count + 1)));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_repl_meshes_the_loaded_domain_in_blocks() {
+    let o = freemesh(
+        &["repl"],
+        Some(":load tests/inputs/l-shape.json\n:blocks\n:quit\n"),
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    assert!(out.contains("block -> layout(4)"), "{out}");
+    assert!(out.contains("block -> map("), "{out}");
+    assert!(
+        out.contains("% the mesh in blocks: 60 quads, 0 irregular interior nodes"),
+        "{out}"
+    );
+    let o = freemesh(&["repl"], Some(":blocks\n"));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("error: no domain loaded"));
+}
