@@ -521,7 +521,7 @@ fn boundary_not_followed(mesh: &freemesh::Mesh, loops: u32) -> Option<(u32, u32)
 
 #[test]
 fn random_valid_domains_give_valid_all_quad_meshes() {
-    random_run(None, 40);
+    random_run(None, 40, false);
 }
 
 /// The same domains graded: an interior limit of six times the boundary
@@ -530,12 +530,21 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
 /// sets another multiple in the plain run instead).
 #[test]
 fn random_domains_graded_to_six_times_the_size_give_valid_meshes() {
-    random_run(Some(6.0), 20);
+    random_run(Some(6.0), 20, false);
+}
+
+/// The same domains in structured blocks (`--blocks`): the layout, the
+/// interval assignment, the mapping elements and the free blocks all run
+/// on shapes never tuned for.
+#[test]
+fn random_domains_in_blocks_give_valid_meshes() {
+    random_run(None, 20, true);
 }
 
 /// Meshes the run's seeds (`ratio`: an interior limit of that many times
-/// each domain's size) and checks every mesh.
-fn random_run(ratio: Option<f64>, default_count: u64) {
+/// each domain's size; `blocks`: in structured blocks) and checks every
+/// mesh.
+fn random_run(ratio: Option<f64>, default_count: u64, blocks: bool) {
     let ratio = ratio.or_else(|| {
         std::env::var("FREEMESH_RANDOM_MAX_SIZE")
             .ok()
@@ -555,7 +564,7 @@ fn random_run(ratio: Option<f64>, default_count: u64) {
     };
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
     let (mut meshed, mut refused, mut fallbacks, mut last_resorts) = (0, 0, 0, 0);
-    let mut loops_closed = 0;
+    let (mut loops_closed, mut in_blocks) = (0, 0);
     let mut refusals: std::collections::BTreeMap<String, usize> = Default::default();
     let mut failures = Vec::new();
     for &seed in &seeds {
@@ -590,7 +599,11 @@ fn random_run(ratio: Option<f64>, default_count: u64) {
         };
         let t0 = std::time::Instant::now();
         let opts = Options::default().with_max_size(ratio.map(|k| k * domain.size()));
-        let result = mesh_domain(&domain, &mut kb, &opts, &mut |_| {});
+        let result = if blocks {
+            freemesh::mesh_in_blocks(&domain, &mut kb, &opts, &mut |_| {})
+        } else {
+            mesh_domain(&domain, &mut kb, &opts, &mut |_| {})
+        };
         if t0.elapsed().as_secs_f64() > 5.0 {
             eprintln!("seed {seed} took {:.1} s", t0.elapsed().as_secs_f64());
         }
@@ -609,6 +622,7 @@ fn random_run(ratio: Option<f64>, default_count: u64) {
                 fallbacks += r.stats.fallback_splits;
                 last_resorts += r.stats.triangle_fallbacks;
                 loops_closed += (r.stats.open_loops_closed > 0) as usize;
+                in_blocks += (r.stats.blocks > 0) as usize;
             }
             Err(e) => failures.push(format!("seed {seed}: {e}")),
         }
@@ -616,9 +630,14 @@ fn random_run(ratio: Option<f64>, default_count: u64) {
     eprintln!(
         "{} seeds: {meshed} meshed and valid, {refused} refused by the validator, {} failed; \
          {fallbacks} fallback splits, {loops_closed} with open loops closed by triangles, \
-         {last_resorts} meshed whole by the triangle fallback",
+         {last_resorts} meshed whole by the triangle fallback{}",
         seeds.len(),
-        failures.len()
+        failures.len(),
+        if blocks {
+            format!("; {in_blocks} in blocks")
+        } else {
+            String::new()
+        }
     );
     for (kind, n) in &refusals {
         eprintln!("  refused {n}: {kind}");
