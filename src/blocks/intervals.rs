@@ -228,6 +228,14 @@ fn share_out(total: usize, open: &[(usize, usize)], mean: &[f64]) -> Vec<usize> 
 mod tests {
     use super::*;
 
+    /// The layout edge between two corners.
+    fn edge(c: &Chords, a: u32, b: u32) -> usize {
+        c.edges
+            .iter()
+            .position(|&x| x == (a.min(b), a.max(b)))
+            .expect("an edge of the layout")
+    }
+
     /// Two blocks side by side: 0-1-4-3 and 1-2-5-4.
     fn two_blocks() -> Vec<[u32; 4]> {
         vec![[0, 1, 4, 3], [1, 2, 5, 4]]
@@ -239,14 +247,7 @@ mod tests {
         // across both: the bottoms and tops (one chord each block, tied
         // side 0 to side 2) and the three verticals tied into one chord
         assert_eq!(c.count, 3);
-        let vertical = |a: u32, b: u32| {
-            let e = c
-                .edges
-                .iter()
-                .position(|&x| x == (a.min(b), a.max(b)))
-                .unwrap();
-            c.chord_of[e]
-        };
+        let vertical = |a: u32, b: u32| c.chord_of[edge(&c, a, b)];
         assert_eq!(vertical(0, 3), vertical(1, 4));
         assert_eq!(vertical(1, 4), vertical(2, 5));
         assert_ne!(vertical(0, 1), vertical(1, 2));
@@ -256,12 +257,7 @@ mod tests {
     #[test]
     fn a_chord_aims_at_its_mean_target_and_a_fixed_count_is_shared() {
         let c = chords(&two_blocks());
-        let e = |a: u32, b: u32| {
-            c.edges
-                .iter()
-                .position(|&x| x == (a.min(b), a.max(b)))
-                .unwrap()
-        };
+        let e = |a: u32, b: u32| edge(&c, a, b);
         let mut targets = vec![0.0; c.edges.len()];
         for (a, b, t) in [
             (0, 1, 3.2),
@@ -291,12 +287,7 @@ mod tests {
     #[test]
     fn a_disagreeing_fixed_count_can_be_kept_apart_for_a_free_block() {
         let c = chords(&[[0, 1, 2, 3]]);
-        let e = |a: u32, b: u32| {
-            c.edges
-                .iter()
-                .position(|&x| x == (a.min(b), a.max(b)))
-                .unwrap()
-        };
+        let e = |a: u32, b: u32| edge(&c, a, b);
         let fixed = [
             FixedCount {
                 edges: vec![e(0, 1)],
@@ -315,12 +306,7 @@ mod tests {
     #[test]
     fn opposite_sides_fixed_at_different_counts_disagree() {
         let c = chords(&[[0, 1, 2, 3]]);
-        let e = |a: u32, b: u32| {
-            c.edges
-                .iter()
-                .position(|&x| x == (a.min(b), a.max(b)))
-                .unwrap()
-        };
+        let e = |a: u32, b: u32| edge(&c, a, b);
         let targets = vec![4.0; 4];
         let fixed = [
             FixedCount {

@@ -524,31 +524,14 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
         let _ = writeln!(s, "<polygon points=\"{}\" fill=\"{fill}\"/>", pts.join(" "));
     }
     s.push_str("</g>\n");
-    let _ = writeln!(
-        s,
-        "<g stroke=\"#000\" stroke-width=\"{:.2}\" fill=\"none\">",
-        stroke * 3.0
-    );
-    for e in &mesh.boundary {
-        let (a, b) = (mesh.nodes[e.a as usize], mesh.nodes[e.b as usize]);
+    // the input boundary thick; the blocks' edges (element edges between
+    // two blocks) in blue
+    let segments = |s: &mut String, colour: &str, width: f64, edges: &[(u32, u32)]| {
         let _ = writeln!(
             s,
-            "<line x1=\"{:.2}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\"/>",
-            tx(a.x),
-            ty(a.y),
-            tx(b.x),
-            ty(b.y)
+            "<g stroke=\"{colour}\" stroke-width=\"{width:.2}\" fill=\"none\">"
         );
-    }
-    s.push_str("</g>\n");
-    if !mesh.blocks.is_empty() {
-        // the blocks' edges: element edges between two blocks
-        let _ = writeln!(
-            s,
-            "<g stroke=\"#1f5fbf\" stroke-width=\"{:.2}\" fill=\"none\">",
-            stroke * 2.5
-        );
-        for (a, b) in block_edges(mesh) {
+        for &(a, b) in edges {
             let (a, b) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
             let _ = writeln!(
                 s,
@@ -560,6 +543,11 @@ pub fn to_svg(mesh: &Mesh, front: &[Vec<u32>], title: &str) -> String {
             );
         }
         s.push_str("</g>\n");
+    };
+    let boundary: Vec<(u32, u32)> = mesh.boundary.iter().map(|e| (e.a, e.b)).collect();
+    segments(&mut s, "#000", stroke * 3.0, &boundary);
+    if !mesh.blocks.is_empty() {
+        segments(&mut s, "#1f5fbf", stroke * 2.5, &block_edges(mesh));
     }
     if !front.is_empty() {
         let _ = writeln!(
