@@ -264,8 +264,10 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         }
     }
     let domains = expand_globs(&args.domains)?;
-    let planned = run_outputs::plan(&domains, &args.outputs, args.trace.as_deref())?;
+    // the handler first: checking the outputs makes (and removes) their
+    // temporaries, and a Ctrl-C then must remove them too
     run_outputs::remove_temporaries_on_interrupt()?;
+    let planned = run_outputs::plan(&domains, &args.outputs, args.trace.as_deref())?;
     if domains.len() == 1 {
         // the domain is read and its boundary made ready while the engine
         // loads (the engine cannot move between threads; these can)

@@ -99,6 +99,36 @@ pub fn mesh_free_regions(
     Ok(steps)
 }
 
+/// Grows the free blocks until every region of them has an even loop (a
+/// region's loop may be odd where there are several: only their sum is
+/// even): an odd region takes in the blocks next to it, until it meets
+/// another odd one.
+pub fn even_regions(chords: &Chords, counts: &[usize], free: &mut [bool]) {
+    for _ in 0..free.len() {
+        let odd = regions(chords, free).into_iter().find(|region| {
+            let mut uses: HashMap<usize, usize> = HashMap::default();
+            for &b in region {
+                for &e in &chords.sides[b] {
+                    *uses.entry(e).or_default() += 1;
+                }
+            }
+            let segments: usize = uses
+                .iter()
+                .filter(|(_, &n)| n == 1)
+                .map(|(&e, _)| counts[e])
+                .sum();
+            segments % 2 == 1
+        });
+        let Some(region) = odd else { return };
+        let edges: Vec<usize> = region.iter().flat_map(|&b| chords.sides[b]).collect();
+        for (b, s) in chords.sides.iter().enumerate() {
+            if s.iter().any(|e| edges.contains(e)) {
+                free[b] = true;
+            }
+        }
+    }
+}
+
 fn key(p: DVec2) -> (u64, u64) {
     (p.x.to_bits(), p.y.to_bits())
 }

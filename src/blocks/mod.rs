@@ -349,11 +349,12 @@ fn blocks_of(
     for &(e, n) in &apart {
         edge_counts[e] = n;
     }
-    let free: Vec<bool> = chords
+    let mut free: Vec<bool> = chords
         .sides
         .iter()
         .map(|s| edge_counts[s[0]] != edge_counts[s[2]] || edge_counts[s[1]] != edge_counts[s[3]])
         .collect();
+    free_blocks::even_regions(&chords, &edge_counts, &mut free);
     let (mut mesh, edge_nodes) =
         mapping::mesh_blocks(coarse, &chords, &edge_counts, &free, &on_curve)
             .ok_or("a block's opposite sides disagree")?;
