@@ -112,21 +112,22 @@ fn clean_up_on(
     shape_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
     // the collapsed elements' slots go
     let Working { mesh, alive, .. } = w;
-    let mut k = 0;
-    mesh.quads.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
+    keep_alive(&mut mesh.quads, &alive);
     if !mesh.blocks.is_empty() {
-        let mut k = 0;
-        mesh.blocks.retain(|_| {
-            k += 1;
-            alive[k - 1]
-        });
+        keep_alive(&mut mesh.blocks, &alive);
     }
     touched.sort_unstable();
     touched.dedup();
     (stats, touched)
+}
+
+/// Keeps the items (one an element) whose element is alive.
+fn keep_alive<T>(items: &mut Vec<T>, alive: &[bool]) {
+    let mut k = 0;
+    items.retain(|_| {
+        k += 1;
+        alive[k - 1]
+    });
 }
 
 /// Up to three rounds over the bad elements among `look_at`, worst first

@@ -18,7 +18,8 @@ use crate::report::trace::{By, TraceStep};
 /// region of touching free blocks at a time; the regions' steps, their
 /// node ids those of `fine`, come back for the trace. Err says why not
 /// (a region round a hole of mapped blocks, an odd loop, a region the
-/// rules cannot mesh).
+/// rules cannot mesh). `opts`: the regions' runs (uniform, at the
+/// element size).
 pub fn mesh_free_regions(
     fine: &mut Mesh,
     layout: &Mesh,
@@ -26,9 +27,9 @@ pub fn mesh_free_regions(
     edge_nodes: &[Vec<u32>],
     free: &[bool],
     kb: &mut KnowledgeBase,
-    size: f64,
-    trace: bool,
+    opts: &Options,
 ) -> Result<Vec<TraceStep>, String> {
+    let size = opts.size.expect("the regions' runs have the element size");
     let mut steps = Vec::new();
     for region in regions(chords, free) {
         let ring = region_loop(layout, chords, edge_nodes, &region)?;
@@ -47,12 +48,8 @@ pub fn mesh_free_regions(
             "outer": { "points": points, "segments": vec![1; points.len()] }
         }))
         .map_err(|e| format!("free blocks: {e}"))?;
-        let opts = Options::default()
-            .with_size(Some(size))
-            .with_max_size(Some(size))
-            .with_trace(trace);
-        let r = mesh_domain(&domain, kb, &opts, &mut |_| {})
-            .map_err(|e| format!("free blocks: {e}"))?;
+        let r =
+            mesh_domain(&domain, kb, opts, &mut |_| {}).map_err(|e| format!("free blocks: {e}"))?;
         if r.stats.triangle_fallbacks > 0 {
             return Err("free blocks meshed whole by the triangle fallback".into());
         }

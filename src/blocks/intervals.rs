@@ -95,6 +95,10 @@ pub struct Disagreement {
     pub chords_give: usize,
 }
 
+/// Each chord's count, and the block edges whose counts are apart from
+/// their chords' (edge, count); see `assign`.
+pub type Assignment = (Vec<usize>, Vec<(usize, usize)>);
+
 /// Each chord's count: the rounded mean of `targets` (an edge's length
 /// over the element size) over its edges, at least 1; a chord that
 /// crosses an input edge with a fixed count takes its share of that
@@ -112,7 +116,7 @@ pub fn assign(
     targets: &[f64],
     fixed: &[FixedCount],
     free_blocks: bool,
-) -> Result<(Vec<usize>, Vec<(usize, usize)>), Disagreement> {
+) -> Result<Assignment, Disagreement> {
     let mut apart: Vec<(usize, usize)> = Vec::new();
     let mut sum = vec![0.0; chords.count];
     let mut n = vec![0usize; chords.count];

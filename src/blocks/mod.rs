@@ -8,10 +8,11 @@
 //! layout's irregular corners. Smoothing and clean-up then run over the
 //! whole mesh, across the blocks' edges, as after the recursion.
 //!
-//! Where no assignment exists (fixed counts on opposite sides that
-//! disagree, as in the paper's Fig. 18) or the layout cannot be made, the
-//! domain is meshed free by the rules at its size, and the trace's first
-//! step says why.
+//! Blocks whose opposite sides cannot agree (fixed counts, the paper's
+//! Fig. 18) are meshed free together by the rules (free_blocks.rs).
+//! Where no layout can be made, or the free mesh does better, the domain
+//! is meshed free by the rules at its size; the trace's first step says
+//! which mesh was kept and what each layout gave.
 
 mod free_blocks;
 pub mod intervals;
@@ -28,10 +29,11 @@ use crate::report::trace::{By, TraceStep};
 use intervals::{Chords, FixedCount};
 
 /// The layout's element size is tried at `bound(block_size, K)`, then at
-/// three quarters and half of it (never under 1.5 element sizes): the
-/// first whose mesh is within the bounds is kept. Where none is, the
-/// domain is meshed free too, and the mesh with the fewest elements out
-/// of bounds kept (fewer irregular nodes deciding between equals).
+/// three quarters and half of it (never under 1.5 element sizes); their
+/// block meshes are finished in order of their irregular nodes, and the
+/// first within the bounds is kept. Where none is, the domain is meshed
+/// free too, and the mesh with the fewest elements out of bounds kept
+/// (fewer irregular nodes deciding between equals).
 const LAYOUT_STEPS: [f64; 3] = [1.0, 0.75, 0.5];
 
 /// Meshes `domain` in blocks (see the module's comment).
@@ -66,7 +68,7 @@ pub fn mesh_in_blocks(
             let layout_domain = layout_for(domain, coarse, arc_step);
             let outcome = match layout(&layout_domain, kb, &layout_opts) {
                 Err(why) => Err(why),
-                Ok(layout) => blocks_of(layout, domain, size, coarse, kb, opts.trace),
+                Ok(layout) => blocks_of(layout, domain, size, kb, opts.trace),
             };
             match outcome {
                 Err(why) => tried.push(format!("blocks of {factor} element sizes: {why}")),
@@ -107,28 +109,20 @@ pub fn mesh_in_blocks(
     if let Some((b, r, factor)) = best.take() {
         if b.outside == 0 {
             progress(r.mesh.quads.len());
-            return Ok(with_layout_step(r, factor, &tried));
+            return Ok(with_first_step(r, &format!("layout({factor})"), tried));
         }
         best = Some((b, r, factor));
     }
-    let mut free = mesh_domain(domain, kb, opts, progress)?;
+    let free = mesh_domain(domain, kb, opts, progress)?;
     let score = Score::of(&free, &settings.element, domain);
-    if let Some((b, r, factor)) = best {
-        if b < score {
-            return Ok(with_layout_step(r, factor, &tried));
-        }
+    if let Some((_, r, factor)) = best.filter(|(b, _, _)| *b < score) {
+        return Ok(with_first_step(r, &format!("layout({factor})"), tried));
     }
     tried.push(format!(
         "free: {} elements out of bounds, {} irregular nodes",
         score.outside, score.irregular
     ));
-    if opts.trace {
-        free.trace.insert(0, free_step(&tried));
-        for (k, t) in free.trace.iter_mut().enumerate() {
-            t.step = k + 1;
-        }
-    }
-    Ok(free)
+    Ok(with_first_step(free, "free", tried))
 }
 
 /// How far a mesh is from the bounds (elements with a corner outside the
@@ -168,15 +162,13 @@ fn corners_outside(
         .flat_map(crate::input::curves::chain_vertices)
         .collect();
     let at_vertex = |p: glam::DVec2| vertices.iter().any(|v| (*v - p).length() <= tol);
-    mesh.quads
-        .iter()
-        .filter(|q| {
+    (0..mesh.quads.len())
+        .filter(|&q| {
+            let p = mesh.quad_points(q);
+            let angles = crate::geometry::quad_angles(p);
             (0..4).any(|k| {
-                let p = mesh.nodes[q[k] as usize];
-                let a = mesh.nodes[q[(k + 1) % 4] as usize] - p;
-                let b = mesh.nodes[q[(k + 3) % 4] as usize] - p;
-                let angle = a.angle_to(b).abs().to_degrees();
-                (angle < bounds.lower_corner && !at_vertex(p)) || angle > bounds.upper_corner + 1e-9
+                (angles[k] < bounds.lower_corner && !at_vertex(p[k]))
+                    || angles[k] > bounds.upper_corner + 1e-9
             })
         })
         .count()
@@ -216,19 +208,34 @@ pub fn irregular_nodes(mesh: &crate::mesh::Mesh) -> usize {
         .count()
 }
 
-/// A block mesh's trace with a first step: the layout kept,
-/// `layout(F)` (blocks of F element sizes), and what each layout tried
-/// gave.
-fn with_layout_step(mut r: MeshResult, factor: f64, tried: &[String]) -> MeshResult {
+/// A `--blocks` run's trace with its first step: the mesh kept,
+/// `layout(F)` (blocks of F element sizes) or `free`, and what each
+/// layout tried gave (none where the run keeps no trace).
+fn with_first_step(mut r: MeshResult, action: &str, tried: Vec<String>) -> MeshResult {
     if !r.trace.is_empty() {
-        let mut step = free_step(tried);
-        step.action = format!("layout({factor})");
-        r.trace.insert(0, step);
-        for (k, t) in r.trace.iter_mut().enumerate() {
-            t.step = k + 1;
-        }
+        r.trace.insert(
+            0,
+            TraceStep {
+                step: 0,
+                edge: [-1, -1],
+                angles: Default::default(),
+                feature: "block".into(),
+                action: action.into(),
+                by: By::Block,
+                redesign: tried,
+                element: vec![],
+            },
+        );
+        renumber(&mut r.trace);
     }
     r
+}
+
+/// The trace's steps numbered from 1 in their order.
+fn renumber(trace: &mut [TraceStep]) {
+    for (k, t) in trace.iter_mut().enumerate() {
+        t.step = k + 1;
+    }
 }
 
 /// The layout: `domain` meshed by the rules at the coarse size of
@@ -253,10 +260,16 @@ fn layout(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options) -> Result<Mes
             ));
         }
     }
+    let stopped = format!("the rules stopped at size {coarse}");
     if run.stopped().is_some() {
-        return Err(format!("the rules stopped at size {coarse}"));
+        return Err(stopped);
     }
-    run.finish().map_err(words)
+    // the finished mesh may still fail its check and go to the fallbacks
+    let r = run.finish().map_err(words)?;
+    if r.stats.triangle_fallbacks > 0 || r.stats.open_loops_closed > 0 {
+        return Err(stopped);
+    }
+    Ok(r)
 }
 
 /// The domain the layout is made of: the same boundary at the coarse
@@ -282,7 +295,7 @@ fn layout_for(domain: &Domain, coarse: f64, arc_step: f64) -> Domain {
                 // layout's, measured along its chord (an even count
                 // leaves the loop's parity to its straight edges)
                 None if !matches!(e.curve, Curve::Line { .. }) => {
-                    let steps = (sweep(&e.curve) / arc_step).ceil() as usize;
+                    let steps = (e.curve.sweep() / arc_step).ceil() as usize;
                     Some(natural.max(steps).next_multiple_of(2))
                 }
                 None => None,
@@ -313,13 +326,9 @@ fn blocks_of(
     layout: MeshResult,
     domain: &Domain,
     size: f64,
-    coarse: f64,
     kb: &mut KnowledgeBase,
     record_trace: bool,
 ) -> Result<Outcome, String> {
-    if layout.stats.triangle_fallbacks > 0 || layout.stats.open_loops_closed > 0 {
-        return Err(format!("the rules stopped at size {coarse}"));
-    }
     let coarse = &layout.mesh;
     let chords: Chords = intervals::chords(&coarse.quads);
     let on_curve = mapping::boundary_curves(coarse, domain)
@@ -368,8 +377,10 @@ fn blocks_of(
             &edge_nodes,
             &free,
             kb,
-            size,
-            record_trace,
+            &Options::default()
+                .with_size(Some(size))
+                .with_max_size(Some(size))
+                .with_trace(record_trace),
         )?;
         trace.extend(steps);
     }
@@ -380,7 +391,7 @@ fn blocks_of(
         let s = chords.sides[bi];
         let (n, m) = (edge_counts[s[0]], edge_counts[s[1]]);
         trace.push(TraceStep {
-            step: trace.len() + 1,
+            step: 0,
             edge: [q[0] as i64, q[1] as i64],
             angles: Default::default(),
             feature: "block".into(),
@@ -390,10 +401,7 @@ fn blocks_of(
             element: q.iter().map(|&x| x as i64).collect(),
         });
     }
-    for (k, t) in trace.iter_mut().enumerate() {
-        t.step = k + 1;
-    }
-    number_without_gaps(&mut mesh.blocks);
+    renumber(&mut trace);
     let mut stats = layout.stats;
     stats.blocks = free.iter().filter(|&&f| !f).count();
     let loops = 1 + domain.holes.len() as u32;
@@ -406,9 +414,10 @@ fn blocks_of(
     })
 }
 
-/// The blocks numbered from 0 without gaps, in their order: a region of
-/// free blocks is one block of the output, and the clean-up may take a
-/// small block's last element (an empty group is no use to a reader).
+/// The blocks numbered from 0 without gaps, in their order, once the mesh
+/// is finished: a region of free blocks is one block of the output, and
+/// the clean-up may take a small block's last element (an empty group is
+/// no use to a reader).
 fn number_without_gaps(blocks: &mut [u32]) {
     let mut used = blocks.to_vec();
     used.sort_unstable();
@@ -441,29 +450,6 @@ fn fixed_counts(
         }
     }
     out
-}
-
-/// The angle an edge turns through (0 for a line).
-fn sweep(c: &Curve) -> f64 {
-    match *c {
-        Curve::Line { .. } => 0.0,
-        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
-        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
-    }
-}
-
-/// The trace's step saying why a `--blocks` run meshed the domain free.
-fn free_step(why: &[String]) -> TraceStep {
-    TraceStep {
-        step: 1,
-        edge: [-1, -1],
-        angles: Default::default(),
-        feature: "block".into(),
-        action: "free".into(),
-        by: By::Block,
-        redesign: why.to_vec(),
-        element: vec![],
-    }
 }
 
 /// A layout edge on the boundary: the input curve it lies on and its

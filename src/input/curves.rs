@@ -114,6 +114,16 @@ impl Curve {
         }
     }
 
+    /// The angle the curve turns through, unsigned (radians; 0 for a
+    /// line, a full turn for a circle).
+    pub fn sweep(&self) -> f64 {
+        match *self {
+            Curve::Line { .. } => 0.0,
+            Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
+            Curve::Circle { .. } => 2.0 * PI,
+        }
+    }
+
     /// Distance from `p` to the curve.
     pub fn distance(&self, p: DVec2) -> f64 {
         (self.project(p) - p).length()
@@ -178,14 +188,7 @@ impl Curve {
 
 /// The fewest segments a curve may have: one per 60 deg of arc.
 pub(crate) fn min_arc_segments(c: &Curve) -> usize {
-    let sweep = match *c {
-        Curve::Line { .. } => return 1,
-        Curve::Arc { bulge, .. } => (4.0 * bulge.atan()).abs(),
-        Curve::Circle { .. } => 2.0 * std::f64::consts::PI,
-    };
-    (sweep / (std::f64::consts::PI / 3.0) - 1e-9)
-        .ceil()
-        .max(1.0) as usize
+    (c.sweep() / (PI / 3.0) - 1e-9).ceil().max(1.0) as usize
 }
 
 /// An edge of a loop or line with its optional fixed segment count and tag.

@@ -339,20 +339,22 @@ pub fn to_msh(mesh: &Mesh, second: Option<&SecondOrder>) -> String {
             tag += 1;
         }
     }
-    for r in 0..surfaces {
-        let in_region = |q: usize| {
-            if block_groups > 0 {
-                mesh.blocks[q] as usize == r
-            } else {
-                region_groups == 0 || mesh.regions[q] as usize == r
-            }
+    // each surface's quads, in their order (one pass: a mesh may have
+    // hundreds of blocks)
+    let mut by_surface: Vec<Vec<usize>> = vec![Vec::new(); surfaces];
+    for q in 0..mesh.quads.len() {
+        let r = if block_groups > 0 {
+            mesh.blocks[q] as usize
+        } else if region_groups > 0 {
+            mesh.regions[q] as usize
+        } else {
+            0
         };
-        let count = (0..mesh.quads.len()).filter(|&q| in_region(q)).count();
-        let _ = writeln!(s, "2 {} {quad_type} {count}", r + 1);
-        for q in 0..mesh.quads.len() {
-            if !in_region(q) {
-                continue;
-            }
+        by_surface[r].push(q);
+    }
+    for (r, quads) in by_surface.iter().enumerate() {
+        let _ = writeln!(s, "2 {} {quad_type} {}", r + 1, quads.len());
+        for &q in quads {
             let _ = write!(s, "{tag}");
             for n in element_nodes(mesh, second, q) {
                 let _ = write!(s, " {}", n + 1);
