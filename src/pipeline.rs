@@ -526,9 +526,13 @@ impl<'k> Run<'k> {
 
     fn finish_run(&mut self) -> Result<MeshResult, Error> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
-        let reason = match self.stopped.take() {
-            Some(reason) => reason,
-            None => {
+        // a boundary or line segment the rules' elements lost: said before
+        // the outcome is taken, so the debug picture shows where
+        let lost = check::check_boundary_followed(self.mesher.mesh()).err();
+        let reason = match (self.stopped.take(), lost) {
+            (Some(reason), _) => reason,
+            (None, Some(e)) => Error::Check(e).to_string(),
+            (None, None) => {
                 let bounds = self.mesher.settings().element;
                 let outcome = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
@@ -570,6 +574,10 @@ impl<'k> Run<'k> {
     ) -> Result<Option<MeshResult>, Error> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let loops = self.mesher.front_node_loops();
+        if loops.is_empty() {
+            // the rules closed every loop (their mesh failed its check)
+            return Ok(None);
+        }
         let host = self.mesher.settings().host;
         let closed = match crate::fallback::stuck_loops::close_open_loops(
             self.mesher.mesh(),

@@ -621,6 +621,11 @@ fn random_run(ratio: Option<f64>, default_count: u64, blocks: bool) {
                 }
                 fallbacks += r.stats.fallback_splits;
                 last_resorts += r.stats.triangle_fallbacks;
+                if r.stats.triangle_fallbacks > 0 {
+                    // which domains, and why: each kind is the next rule to write
+                    let why = r.stopped_short.as_ref().map_or("", |s| s.reason.as_str());
+                    eprintln!("seed {seed} meshed whole by the triangle fallback: {why}");
+                }
                 loops_closed += (r.stats.open_loops_closed > 0) as usize;
                 in_blocks += (r.stats.blocks > 0) as usize;
             }
