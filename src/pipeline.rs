@@ -26,6 +26,11 @@ use crate::smoothing;
 /// changes run after the smoothing stage.
 const CLEANUP_ROUNDS: usize = 3;
 
+/// Where the rules' elements lost a boundary or line segment, the
+/// elements within this many rings of its ends are meshed again (by
+/// triangles split into quads) with the segment in place.
+const REOPEN_RINGS: usize = 2;
+
 /// Options of one meshing run; `Options::default()` is what the `mesh`
 /// command uses when no flag is given.
 #[derive(Debug, Clone, PartialEq)]
@@ -529,9 +534,13 @@ impl<'k> Run<'k> {
         // a boundary or line segment the rules' elements lost: said before
         // the outcome is taken, so the debug picture shows where
         let lost = check::check_boundary_followed(self.mesher.mesh()).err();
+        let mut lost_segments = Vec::new();
         let reason = match (self.stopped.take(), lost) {
             (Some(reason), _) => reason,
-            (None, Some(e)) => Error::Check(e).to_string(),
+            (None, Some(e)) => {
+                lost_segments = check::lost_segments(self.mesher.mesh());
+                Error::Check(e).to_string()
+            }
             (None, None) => {
                 let bounds = self.mesher.settings().element;
                 let outcome = self.mesher.take_outcome();
@@ -557,10 +566,54 @@ impl<'k> Run<'k> {
             trace: self.mesher.trace().to_vec(),
             reason: reason.clone(),
         };
+        if !lost_segments.is_empty() {
+            if let Some(r) = self.reopen_lost_segments(&lost_segments, &reason, &stopped_short)? {
+                return Ok(r);
+            }
+        }
         if let Some(r) = self.close_open_loops(&reason, &stopped_short)? {
             return Ok(r);
         }
         self.last_resort(reason, stopped_short)
+    }
+
+    /// Where the rules' elements lost boundary or line segments: the
+    /// elements round them taken back and the region meshed by triangles
+    /// split into quads, the segments in it (see
+    /// `fallback::stuck_loops::reopen_lost_segment`), the rest of the
+    /// rules' mesh kept. Each way the segments may lie in the region is
+    /// tried (inside it, or bounding it either way round); None when no
+    /// way gives a mesh that passes its check.
+    fn reopen_lost_segments(
+        &mut self,
+        lost: &[(u32, u32)],
+        reason: &str,
+        stopped_short: &StoppedShort,
+    ) -> Result<Option<MeshResult>, Error> {
+        let spacing = self.mesher.settings().host.fallback_spacing * self.size;
+        let holes = self.domain.holes.len() as u32;
+        let back: Vec<(u32, u32)> = lost.iter().map(|&(a, b)| (b, a)).collect();
+        let both: Vec<(u32, u32)> = lost.iter().chain(&back).copied().collect();
+        let ways = [both, lost.to_vec(), back];
+        let closed = ways.iter().find_map(|lost| {
+            let closed = crate::fallback::stuck_loops::reopen_lost_segment(
+                self.mesher.mesh(),
+                lost,
+                REOPEN_RINGS,
+                &self.domain,
+                spacing,
+            )
+            .ok()?;
+            // checked before the rules' outcome is taken (once only)
+            let area = boundary_area(&closed.mesh, 1 + holes);
+            let fits = check::check_boundary_followed(&closed.mesh).is_ok()
+                && check::check_mesh(&closed.mesh, area).is_ok();
+            fits.then_some(closed)
+        });
+        match closed {
+            Some(closed) => self.finish_closed(closed, 1, reason, stopped_short),
+            None => Ok(None),
+        }
     }
 
     /// Where the recursion stopped short: the loops left open meshed by
@@ -572,7 +625,6 @@ impl<'k> Run<'k> {
         reason: &str,
         stopped_short: &StoppedShort,
     ) -> Result<Option<MeshResult>, Error> {
-        let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let loops = self.mesher.front_node_loops();
         if loops.is_empty() {
             // the rules closed every loop (their mesh failed its check)
@@ -595,6 +647,19 @@ impl<'k> Run<'k> {
             Ok(c) => c,
             Err(_) => return Ok(None),
         };
+        self.finish_closed(closed, loops.len(), reason, stopped_short)
+    }
+
+    /// The rules' outcome with `closed`'s mesh (`loops` regions closed by
+    /// triangles), traced and finished; None if it fails its check.
+    fn finish_closed(
+        &mut self,
+        closed: crate::fallback::stuck_loops::LoopsClosed,
+        loops: usize,
+        reason: &str,
+        stopped_short: &StoppedShort,
+    ) -> Result<Option<MeshResult>, Error> {
+        let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let bounds = self.mesher.settings().element;
         let kb_after = self.mesher.kb().stats;
         let mut outcome = self.mesher.take_outcome();
@@ -603,7 +668,7 @@ impl<'k> Run<'k> {
         // area the elements must cover is the new boundary's
         outcome.area = boundary_area(&outcome.mesh, 1 + self.domain.holes.len() as u32);
         outcome.stats.loop_triangle_elements += closed.loop_elements;
-        outcome.stats.open_loops_closed += loops.len();
+        outcome.stats.open_loops_closed += loops;
         outcome.stats.chord_split_elements += closed.split_elements;
         outcome.stats.unmeshed += closed.taken_back;
         if self.opts.trace {
@@ -614,9 +679,7 @@ impl<'k> Run<'k> {
                 feature: "stuck".into(),
                 action: format!(
                     "loop_triangle_split({}, {}, {})",
-                    loops.len(),
-                    closed.loop_elements,
-                    closed.split_elements
+                    loops, closed.loop_elements, closed.split_elements
                 ),
                 by: By::Triangles,
                 redesign: vec![reason.to_string()],

@@ -524,6 +524,25 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
     random_run(None, 40, false);
 }
 
+/// Seeds whose rules' mesh lost an inner-line or boundary segment (no
+/// element has it: a loop parted off along a line, then a cut zipped):
+/// the elements round the segments are meshed again with the segments in
+/// place, the rest kept, never the whole domain by the triangle fallback.
+#[test]
+fn a_lost_line_segment_is_mended_round_it_not_by_meshing_the_whole_domain_again() {
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    for seed in [426, 437, 458, 680, 740, 828, 864, 883] {
+        let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
+        let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        let loops = 1 + domain.hole_count() as u32;
+        let area = boundary_area(&r.mesh, loops);
+        assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None, "seed {seed}");
+        assert_eq!(boundary_not_followed(&r.mesh, loops), None, "seed {seed}");
+        assert_eq!(r.stats.triangle_fallbacks, 0, "seed {seed} meshed whole by the fallback");
+    }
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K
@@ -611,7 +630,7 @@ fn random_run(ratio: Option<f64>, default_count: u64, blocks: bool) {
             Ok(r) => {
                 let loops = 1 + domain.hole_count() as u32;
                 let area = boundary_area(&r.mesh, loops);
-                let fault = mesh_fault(&r.mesh.nodes(), &r.mesh.quads(), area).or_else(|| {
+                let fault = mesh_fault(r.mesh.nodes(), r.mesh.quads(), area).or_else(|| {
                     boundary_not_followed(&r.mesh, loops)
                         .map(|e| format!("boundary edge {e:?} is no element's edge"))
                 });

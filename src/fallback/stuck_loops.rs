@@ -19,6 +19,7 @@ use std::collections::HashMap;
 use super::triangles::{
     inside_triangles, lattice_points, place_centre, project_on_chain, split_in_three, FallbackError,
 };
+use crate::geometry::{segments_intersect, SegmentRelation};
 use crate::input::domain::Domain;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
@@ -77,12 +78,6 @@ pub fn close_open_loops(
     spacing: f64,
     take_back: Option<f64>,
 ) -> Result<LoopsClosed, FallbackError> {
-    let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
-    let on_curve: HashMap<(u32, u32), u32> = mesh
-        .boundary
-        .iter()
-        .map(|e| (key(e.a, e.b), e.group))
-        .collect();
     // The open region's edges, directed with the region on their left.
     let mut directed: Vec<(u32, u32)> = Vec::new();
     for l in loops {
@@ -92,10 +87,91 @@ pub fn close_open_loops(
     }
     // the one copy of the mesh, its rules' elements taken out to be split
     let mut out = mesh.clone();
+    let on_curve = on_curve(&out);
     let taken = match take_back {
-        Some(area) => take_back_small(&mut out, &mut directed, &on_curve, area),
+        Some(area) => {
+            let taken = small_ones(&out, &directed, &on_curve, area);
+            take_back_marked(&mut out, &mut directed, &on_curve, &taken)
+        }
         None => 0,
     };
+    close_region(out, directed, &on_curve, domain, spacing, taken)
+}
+
+/// Where the rules' elements lost the boundary or inner-line segment
+/// `lost` (no element has it as an edge): the elements within `rings` of
+/// its ends are taken back, and the region they leave, with the segment
+/// in it (`directed`: both ways for a segment inside the region, one way
+/// for one bounding it, the region on its left), is meshed by triangles
+/// split into quads as an open loop is. The rest of the mesh stays as the
+/// rules made it.
+pub fn reopen_lost_segment(
+    mesh: &Mesh,
+    lost: &[(u32, u32)],
+    rings: usize,
+    domain: &Domain,
+    spacing: f64,
+) -> Result<LoopsClosed, FallbackError> {
+    let mut out = mesh.clone();
+    let on_curve = on_curve(&out);
+    let mut near: Vec<bool> = vec![false; out.nodes.len()];
+    for &(a, b) in lost {
+        near[a as usize] = true;
+        near[b as usize] = true;
+    }
+    // an element across a lost segment is taken too, with its rings
+    let crosses = |p: DVec2, q: DVec2| {
+        lost.iter().any(|&(a, b)| {
+            let (pa, pb) = (out.nodes[a as usize], out.nodes[b as usize]);
+            segments_intersect(p, q, pa, pb) == SegmentRelation::Cross
+        })
+    };
+    for q in &out.quads {
+        if (0..4).any(|i| crosses(out.nodes[q[i] as usize], out.nodes[q[(i + 1) % 4] as usize])) {
+            for &n in q {
+                near[n as usize] = true;
+            }
+        }
+    }
+    let mut taken = vec![false; out.quads.len()];
+    for _ in 0..rings {
+        for (qi, q) in out.quads.iter().enumerate() {
+            if q.iter().any(|&n| near[n as usize]) {
+                taken[qi] = true;
+            }
+        }
+        for (qi, q) in out.quads.iter().enumerate() {
+            if taken[qi] {
+                for &n in q {
+                    near[n as usize] = true;
+                }
+            }
+        }
+    }
+    let mut directed = lost.to_vec();
+    let count = take_back_marked(&mut out, &mut directed, &on_curve, &taken);
+    close_region(out, directed, &on_curve, domain, spacing, count)
+}
+
+/// The input's boundary and line segments, each with its chain.
+fn on_curve(mesh: &Mesh) -> HashMap<(u32, u32), u32> {
+    mesh.boundary
+        .iter()
+        .map(|e| (key(e.a, e.b), e.group))
+        .collect()
+}
+
+/// Meshes the open region of `directed` (the region on their left) in
+/// `out` by triangles split into quads (see `close_open_loops`).
+fn close_region(
+    mut out: Mesh,
+    directed: Vec<(u32, u32)>,
+    on_curve: &HashMap<(u32, u32), u32>,
+    domain: &Domain,
+    spacing: f64,
+    taken: usize,
+) -> Result<LoopsClosed, FallbackError> {
+    let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
     let rule_quads = std::mem::take(&mut out.quads);
     // The region's edges: an edge met once bounds the open region; met
     // twice (both sides of a line, a slit) it lies inside it.
@@ -191,7 +267,7 @@ pub fn close_open_loops(
     }
     out.quads = quads;
     let rules_quads = out.quads.len();
-    pull_back_curved_midpoints(&mut out, &halved, &is_halved, &on_curve);
+    pull_back_curved_midpoints(&mut out, &halved, &is_halved, on_curve);
 
     // The open region: its nodes in a compact numbering for the
     // triangulation, its edges the constraints (group 0 bounds it,
@@ -343,17 +419,15 @@ fn pull_back_curved_midpoints(
     }
 }
 
-/// Takes back the elements reached from the open region through elements
-/// under `area` (each element next to the region, or next to one taken,
-/// is taken if it is that small): the region grows by them, its directed
-/// edges updated (an edge between the region and a taken element is no
-/// longer a boundary of it, except on an input line). Returns how many.
-fn take_back_small(
-    mesh: &mut Mesh,
-    directed: &mut Vec<(u32, u32)>,
+/// The elements reached from the open region through elements under
+/// `area` (each element next to the region, or next to one reached, is
+/// reached if it is that small).
+fn small_ones(
+    mesh: &Mesh,
+    directed: &[(u32, u32)],
     on_curve: &HashMap<(u32, u32), u32>,
     area: f64,
-) -> usize {
+) -> Vec<bool> {
     let mut owner: HashMap<(u32, u32), usize> = HashMap::new();
     for (qi, q) in mesh.quads.iter().enumerate() {
         for i in 0..4 {
@@ -387,6 +461,19 @@ fn take_back_small(
         let edges: Vec<(u32, u32)> = (0..4).map(|i| (n[i], n[(i + 1) % 4])).collect();
         reach(&edges, &mut taken, &mut stack);
     }
+    taken
+}
+
+/// Takes the elements marked in `taken` back into the open region: the
+/// region grows by them, its directed edges updated (an edge between the
+/// region and a taken element is no longer a boundary of it, except on an
+/// input line). Returns how many.
+fn take_back_marked(
+    mesh: &mut Mesh,
+    directed: &mut Vec<(u32, u32)>,
+    on_curve: &HashMap<(u32, u32), u32>,
+    taken: &[bool],
+) -> usize {
     let count = taken.iter().filter(|&&t| t).count();
     if count == 0 {
         return 0;

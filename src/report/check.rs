@@ -36,13 +36,7 @@ pub enum MeshCheckError {
 /// of an element. Run it before nodes no element keeps are dropped: they
 /// take their segments with them.
 pub fn check_boundary_followed(mesh: &Mesh) -> Result<(), MeshCheckError> {
-    let mut edges = FxHashSet::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
-    for q in &mesh.quads {
-        for k in 0..4 {
-            let (a, b) = (q[k], q[(k + 1) % 4]);
-            edges.insert((a.min(b), a.max(b)));
-        }
-    }
+    let edges = element_edges(mesh);
     match mesh
         .boundary
         .iter()
@@ -51,6 +45,28 @@ pub fn check_boundary_followed(mesh: &Mesh) -> Result<(), MeshCheckError> {
         Some(e) => Err(MeshCheckError::BoundaryNotFollowed(e.a, e.b)),
         None => Ok(()),
     }
+}
+
+/// Every boundary or inner-line segment that is no element's edge (in
+/// the mesh's order).
+pub fn lost_segments(mesh: &Mesh) -> Vec<(u32, u32)> {
+    let edges = element_edges(mesh);
+    mesh.boundary
+        .iter()
+        .filter(|e| !edges.contains(&(e.a.min(e.b), e.a.max(e.b))))
+        .map(|e| (e.a, e.b))
+        .collect()
+}
+
+fn element_edges(mesh: &Mesh) -> FxHashSet<(u32, u32)> {
+    let mut edges = FxHashSet::with_capacity_and_hasher(mesh.quads.len() * 2, Default::default());
+    for q in &mesh.quads {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    edges
 }
 
 /// Checks a mesh against the area `want` of the discretised domain.
