@@ -537,9 +537,16 @@ fn a_lost_line_segment_is_mended_round_it_not_by_meshing_the_whole_domain_again(
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         let loops = 1 + domain.hole_count() as u32;
         let area = boundary_area(&r.mesh, loops);
-        assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None, "seed {seed}");
+        assert_eq!(
+            mesh_fault(r.mesh.nodes(), r.mesh.quads(), area),
+            None,
+            "seed {seed}"
+        );
         assert_eq!(boundary_not_followed(&r.mesh, loops), None, "seed {seed}");
-        assert_eq!(r.stats.triangle_fallbacks, 0, "seed {seed} meshed whole by the fallback");
+        assert_eq!(
+            r.stats.triangle_fallbacks, 0,
+            "seed {seed} meshed whole by the fallback"
+        );
     }
 }
 
