@@ -102,6 +102,11 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 % block_arc_step: the layout divides arcs in steps of at most this many
 %   deg, so that a block's corners measured along an arc stay near the
 %   layout's, measured along the chord.
+% fallback_reopen_rings: where the rules' elements lost a boundary or line
+%   segment (no element has it as an edge), the elements within this many
+%   rings of it, and those across it, are meshed again by triangles split
+%   into quads with the segment in place (the trace's `stuck` step says
+%   so); the rest of the mesh stays as the rules made it.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -134,3 +139,4 @@ bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
 bound(block_size, 4).
 bound(block_arc_step, 45).
+bound(fallback_reopen_rings, 2).

@@ -222,6 +222,10 @@ pub struct HostBounds {
     /// `block_size`: with `--blocks`, the size of the block layout's
     /// elements, in element sizes (see blocks/mod.rs).
     pub block_size: f64,
+    /// `fallback_reopen_rings`: where the rules' elements lost a boundary
+    /// or line segment, the elements within this many rings of it are
+    /// meshed again with the segment in place (see pipeline/stuck.rs).
+    pub fallback_reopen_rings: f64,
     /// `block_arc_step`: with `--blocks`, the layout divides arcs in
     /// steps of at most this many degrees.
     pub block_arc_step: f64,
@@ -232,7 +236,7 @@ impl Default for HostBounds {
     fn default() -> HostBounds {
         HostBounds::new([
             4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0,
+            45.0, 2.0,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -240,7 +244,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 16] = [
+    pub const NAMES: [&'static str; 17] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -257,13 +261,14 @@ impl HostBounds {
         "size_growth",
         "block_size",
         "block_arc_step",
+        "fallback_reopen_rings",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 16]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step] =
+    pub fn new(v: [f64; 17]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -282,6 +287,7 @@ impl HostBounds {
             (0.0, f64::MAX),
             (1.0, f64::MAX),
             (1.0, 180.0),
+            (0.0, 100.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -309,6 +315,7 @@ impl HostBounds {
             size_growth,
             block_size,
             block_arc_step,
+            fallback_reopen_rings,
         })
     }
 }
@@ -346,7 +353,7 @@ mod tests {
     fn a_negative_reach_is_refused() {
         let mut v = [
             4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0,
+            45.0, 2.0,
         ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();

@@ -11,11 +11,6 @@ use crate::recursion::Outcome;
 use crate::report::check;
 use crate::report::trace::{By, TraceStep};
 
-/// Where the rules' elements lost a boundary or line segment, the
-/// elements within this many rings of its ends are meshed again (by
-/// triangles split into quads) with the segment in place.
-const REOPEN_RINGS: usize = 2;
-
 impl Run<'_> {
     /// Where the rules' elements lost boundary or line segments: the
     /// elements round them taken back and the region meshed by triangles
@@ -39,15 +34,17 @@ impl Run<'_> {
     /// `mesh` with its `lost` segments mended (see `reopen_lost_segments`),
     /// checked; None when no way passes the check.
     fn mend_lost(&self, mesh: &Mesh, lost: &[(u32, u32)]) -> Option<LoopsClosed> {
-        let spacing = self.mesher.settings().host.fallback_spacing * self.size;
+        let host = self.mesher.settings().host;
+        let spacing = host.fallback_spacing * self.size;
+        // bound(fallback_reopen_rings, K): how far round the segments
+        let rings = host.fallback_reopen_rings as usize;
         let holes = self.domain.holes.len() as u32;
         let back: Vec<(u32, u32)> = lost.iter().map(|&(a, b)| (b, a)).collect();
         let both: Vec<(u32, u32)> = lost.iter().chain(&back).copied().collect();
         let ways = [both, lost.to_vec(), back];
         ways.iter().find_map(|lost| {
             let closed =
-                stuck_loops::reopen_lost_segment(mesh, lost, REOPEN_RINGS, &self.domain, spacing)
-                    .ok()?;
+                stuck_loops::reopen_lost_segment(mesh, lost, rings, &self.domain, spacing).ok()?;
             // checked before the rules' outcome is taken (once only)
             let area = boundary_area(&closed.mesh, 1 + holes);
             let fits = check::check_boundary_followed(&closed.mesh).is_ok()
