@@ -530,13 +530,16 @@ impl<'k> Run<'k> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         // a boundary or line segment the rules' elements lost: said before
         // the outcome is taken, so the debug picture shows where
-        let lost = check::check_boundary_followed(self.mesher.mesh()).err();
-        let mut lost_segments = Vec::new();
-        let reason = match (self.stopped.take(), lost) {
+        // (where the rules stopped short, the open loops' segments have no
+        // element yet: those are closed below, not mended)
+        let lost_segments = match self.stopped {
+            Some(_) => Vec::new(),
+            None => check::lost_segments(self.mesher.mesh()),
+        };
+        let reason = match (self.stopped.take(), lost_segments.first()) {
             (Some(reason), _) => reason,
-            (None, Some(e)) => {
-                lost_segments = check::lost_segments(self.mesher.mesh());
-                Error::Check(e).to_string()
+            (None, Some(&(a, b))) => {
+                Error::Check(MeshCheckError::BoundaryNotFollowed(a, b)).to_string()
             }
             (None, None) => {
                 let bounds = self.mesher.settings().element;

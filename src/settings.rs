@@ -222,13 +222,13 @@ pub struct HostBounds {
     /// `block_size`: with `--blocks`, the size of the block layout's
     /// elements, in element sizes (see blocks/mod.rs).
     pub block_size: f64,
+    /// `block_arc_step`: with `--blocks`, the layout divides arcs in
+    /// steps of at most this many degrees.
+    pub block_arc_step: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
     pub fallback_reopen_rings: f64,
-    /// `block_arc_step`: with `--blocks`, the layout divides arcs in
-    /// steps of at most this many degrees.
-    pub block_arc_step: f64,
 }
 
 impl Default for HostBounds {

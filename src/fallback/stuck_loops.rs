@@ -98,13 +98,14 @@ pub fn close_open_loops(
     close_region(out, directed, &on_curve, domain, spacing, taken)
 }
 
-/// Where the rules' elements lost the boundary or inner-line segment
-/// `lost` (no element has it as an edge): the elements within `rings` of
-/// its ends are taken back, and the region they leave, with the segment
-/// in it (`directed`: both ways for a segment inside the region, one way
-/// for one bounding it, the region on its left), is meshed by triangles
-/// split into quads as an open loop is. The rest of the mesh stays as the
-/// rules made it.
+/// Where the rules' elements lost boundary or inner-line segments (no
+/// element has them as an edge): the elements within `rings` of their
+/// ends, and any element across them, are taken back, and the region they
+/// leave, with the segments in it, is meshed by triangles split into quads
+/// as an open loop is. `lost` is directed as the region's edges are (the
+/// region on their left): both ways for a segment inside the region, one
+/// way for one bounding it. The rest of the mesh stays as the rules made
+/// it.
 pub fn reopen_lost_segment(
     mesh: &Mesh,
     lost: &[(u32, u32)],

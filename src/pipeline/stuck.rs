@@ -86,17 +86,18 @@ impl Run<'_> {
         };
         // the closing may lose a segment in its turn: mended the same way
         let lost = check::lost_segments(&closed.mesh);
-        let closed = match lost.is_empty() {
-            true => closed,
-            false => match self.mend_lost(&closed.mesh, &lost) {
-                Some(mended) => LoopsClosed {
-                    loop_elements: closed.loop_elements + mended.loop_elements,
-                    split_elements: closed.split_elements + mended.split_elements,
-                    taken_back: closed.taken_back + mended.taken_back,
-                    mesh: mended.mesh,
-                },
-                None => return Ok(None),
-            },
+        let closed = if lost.is_empty() {
+            closed
+        } else {
+            let Some(mended) = self.mend_lost(&closed.mesh, &lost) else {
+                return Ok(None);
+            };
+            LoopsClosed {
+                loop_elements: closed.loop_elements + mended.loop_elements,
+                split_elements: closed.split_elements + mended.split_elements,
+                taken_back: closed.taken_back + mended.taken_back,
+                mesh: mended.mesh,
+            }
         };
         self.finish_closed(closed, loops.len(), reason, stopped_short)
     }
