@@ -66,6 +66,10 @@ violation(remaining_corner(N, Deg), small_remaining(N)) :-
 
 % A new corner on top of a front node: the fronts meet, use the node.
 redesign_rule(rd_merge, _, A, near_node(C), merge(C, A)).
+% Unless the merged element takes a front node whole at a corner above
+% U_c (the fronts met at an open node): the element is placed as
+% designed, the node left open for the elements after it.
+redesign_rule(rd_unmerge, _, merge(_, A), large_corner(_), A).
 % The outer corner is controlled by decreasing the inner one (paper: "as
 % the outer corner of element can be controlled in the stage of initial
 % design by decreasing the corresponding inner corner").

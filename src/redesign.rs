@@ -71,10 +71,29 @@ pub fn redesign(
                     break;
                 }
                 merges[slot] = targets[slot];
+                let merge = Action::Merge(c, a.clone());
                 action = *a;
                 // the merged corner is fixed now: judge the rest
                 q = element(&pm.front, &pm.mesh.nodes, &action, &lab)
                     .map(|e| apply_merges(e, &merges));
+                // the merged element's own corners shown to the KB: a rule
+                // may undo the merge (fronts that met at an open node the
+                // element would take whole), the element placed as designed
+                if let Some(merged) = q {
+                    let wide = wide_corners(pm, &merged);
+                    if !wide.is_empty() {
+                        let ctx = context(pm, &lab);
+                        if let Some(Redesigned { rule, action: new }) =
+                            kb.redesign(&ctx, &merge, &wide)?
+                        {
+                            fired.push(rule);
+                            pm.stats.redesigns += 1;
+                            merges = [None, None];
+                            action = new;
+                            q = None;
+                        }
+                    }
+                }
                 break;
             }
             a => action = a,
@@ -255,6 +274,25 @@ pub fn relations(
 }
 
 /// The unsigned angle at `v` between the directions to `a` and `b` (deg).
+/// The corners of element `q` above `bound(relation_inner_above, _)`, as
+/// inner_corner relations (labelled N1..N4 in the element's order).
+fn wide_corners(pm: &PartialMesh, q: &[QNode; 4]) -> Vec<Relation> {
+    let pos: Vec<DVec2> = q
+        .iter()
+        .map(|&x| qpos(&pm.front, &pm.mesh.nodes, x))
+        .collect();
+    let names = [ElementNode::N1, ElementNode::N2, ElementNode::N3, ElementNode::N4];
+    (0..4)
+        .filter_map(|i| {
+            let deg = corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]);
+            (deg > pm.host.relation_inner_above).then(|| Relation::InnerCorner {
+                node: names[i],
+                deg: deg_round(deg),
+            })
+        })
+        .collect()
+}
+
 fn corner_angle(a: DVec2, v: DVec2, b: DVec2) -> f64 {
     let (x, y) = (a - v, b - v);
     x.perp_dot(y).abs().atan2(x.dot(y)).to_degrees()
