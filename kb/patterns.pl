@@ -1,8 +1,9 @@
 /** Final patterns: closing a loop of four or six segments (Fig. 16).
 
 The host asks with the interior angles of the loop's nodes, A1..A6 in
-loop order, and tries the answers in order until one gives valid
-elements:
+loop order, and tries the answers in order: it keeps the first whose
+elements are valid with every corner inside [lower_corner, upper_corner]
+(bound/2), else the valid one whose worst corner is nearest that window:
 
   quad                a four-segment loop is the last element itself
   pattern1(K)         new node at (X2+X4+X6)/3 of the nodes K+1, K+3, K+5
@@ -41,8 +42,7 @@ final_pattern(As, K, pattern2(K)) :-
 final_pattern(As, K, pattern1(K)) :-
     member(K, [0, 1]), rotated_(As, K, [A1, A2, A3, A4, A5, A6]),
     A2 + A4 + A6 >= A1 + A3 + A5.
-% Anything else: try every pattern in turn, the host keeps the first
-% that gives valid elements.
+% Anything else: try every pattern in turn (the host's choice above).
 final_pattern(_, K, pattern3(K)) :- rotation_(K).
 final_pattern(_, K, pattern1(K)) :- member(K, [0, 1]).
 

@@ -62,6 +62,7 @@ pub fn try_close_loop(
     if !distinct(&ids) {
         return Ok(false);
     }
+    let mut best = None;
     for pat in kb.final_patterns(&angles)? {
         let k = pat.start;
         let at = |i: usize| (k + i) % 6; // the paper's N_{i+1}
@@ -97,7 +98,24 @@ pub fn try_close_loop(
                     .collect();
                 quad_clear(pm, qd.map(pt), &qids, 0.0)
             });
-        if clear {
+        if !clear {
+            continue;
+        }
+        // the first pattern with every corner in the window; else the
+        // valid one whose worst corner is nearest it
+        let excess = quads
+            .iter()
+            .map(|qd| crate::element_quality::worst_excess(qd.map(pt), &pm.bounds))
+            .fold(0.0, f64::max);
+        if best.as_ref().is_none_or(|b: &(f64, _, _, _)| excess < b.0) {
+            best = Some((excess, quads, new_pts, pat.text));
+        }
+        if excess == 0.0 {
+            break;
+        }
+    }
+    if let Some((_, quads, new_pts, text)) = best {
+        {
             let base = pm.mesh.nodes.len() as u32;
             let quads_ids: Vec<[u32; 4]> = quads
                 .iter()
@@ -109,7 +127,7 @@ pub fn try_close_loop(
                 &new_pts,
                 Closing {
                     feature: "final6",
-                    action: pat.text,
+                    action: text,
                     angles: angle_map,
                     by: By::Pattern,
                 },

@@ -12,7 +12,7 @@ use crate::geometry::{orient2d, segments_intersect, SegmentRelation};
 use crate::input::boundary::Discretised;
 use crate::mesh::{Mesh, NodeKind};
 use crate::report::trace::{Angles, By, TraceStep, Veto};
-use crate::settings::HostBounds;
+use crate::settings::{ElementBounds, HostBounds};
 use crate::size_field::SizeField;
 
 /// Counters of one meshing run.
@@ -133,6 +133,8 @@ pub struct PartialMesh {
     pub trace: Vec<TraceStep>,
     /// The host's thresholds (`bound/2`, see settings.rs).
     pub host: HostBounds,
+    /// The element bounds (`bound/2`): the final patterns' corner window.
+    pub bounds: ElementBounds,
     /// The designs the validity check refused (kept when `record_trace`).
     pub vetoes: Vec<Veto>,
     /// Whether steps are recorded in `trace` (they are always counted).
@@ -213,6 +215,7 @@ impl PartialMesh {
             trace: Vec::new(),
             vetoes: Vec::new(),
             host: HostBounds::default(),
+            bounds: ElementBounds::default(),
             record_trace: true,
             steps: 0,
             stats: MeshStats::default(),

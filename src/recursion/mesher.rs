@@ -137,6 +137,7 @@ impl<'k> Mesher<'k> {
         } = prepared;
         let (mut pm, expected) = PartialMesh::new(disc, size, area);
         pm.host = set.host;
+        pm.bounds = set.element;
         if let Some(m) = max_size {
             pm.grade(set.host.size_growth, m);
         }
@@ -357,6 +358,7 @@ impl<'k> Mesher<'k> {
     pub fn kb_changed(&mut self) -> Result<(), MeshError> {
         self.set = self.kb.settings()?;
         self.pm.host = self.set.host;
+        self.pm.bounds = self.set.element;
         self.queue.clear();
         if !self.started {
             return Ok(());
