@@ -647,6 +647,8 @@ pub(crate) fn finish_mesh(
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
         last_changes = Some(touched);
     }
+    // corners still outside the window: their neighbours make room
+    smoothing::ease_bad_corners(&mut mesh, bounds);
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }

@@ -3,9 +3,11 @@
 //! (`untangle.rs`), evening out of sizes and shapes (`sizes.rs`), all by
 //! the compass search (`compass.rs`) where Laplace does not reach, a
 //! large mesh in strips on all cores (`strips.rs`); `stage.rs` runs them
-//! in turn. Input boundary nodes never move.
+//! in turn; `ease.rs` works round the corners still outside the window.
+//! Input boundary nodes never move.
 
 mod compass;
+mod ease;
 mod laplace;
 mod sizes;
 mod stage;
@@ -16,4 +18,5 @@ mod untangle;
 pub(crate) mod tests;
 
 pub use compass::compass_search_steps;
+pub use ease::ease_bad_corners;
 pub use stage::{smooth, smooth_near};
