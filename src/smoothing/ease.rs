@@ -1,13 +1,15 @@
-//! Easing: where a corner is still outside the window after smoothing and
-//! clean-up, the free nodes within two rings of its element move, a few
-//! rounds over, to lower how far the corners round them come near the
-//! window's edges (the squared degrees past a margin inside it). The
-//! neighbours make room that the bad corner's own nodes then take; a node
-//! moving alone cannot, since its own worst corner decides (untangle.rs).
-//! No move makes a corner round the node worse than the worst there was,
-//! nor takes an element past the size and shape bounds it kept.
+//! Easing: where an element is still past the bounds after smoothing and
+//! clean-up (a corner outside the window, or its size against a
+//! neighbour, its aspect or taper), the free nodes within two rings of it
+//! move, a few rounds over: first to bring the corners round them nearer
+//! the window, then the sizes and shapes nearer their bounds, then to
+//! lower how far the corners come near the window's edges (the squared
+//! degrees past a margin inside it). The neighbours make room that the
+//! bad element's own nodes then take; a node moving alone cannot, since
+//! its own worst corner decides (untangle.rs). No move makes the worst
+//! corner round a node worse, nor the sizes and shapes past their bounds.
 
-use crate::element_quality::{badness_of, fixed_tips, size_shape_excess, worst_around};
+use crate::element_quality::{badness_of, fixed_tips, quad_area, size_shape_excess, worst_around};
 use crate::geometry::quad_angles;
 use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
@@ -16,20 +18,27 @@ use crate::smoothing::strips::{element_neighbours, node_elements};
 
 /// How far inside the window (degrees) a corner starts to count.
 const MARGIN: f64 = 6.0;
+/// The share of the size and shape bounds easing aims within (at the
+/// bound itself, rounding would leave an element either side of it).
+const SHAPE_AIM: f64 = 0.99;
 /// Rounds over the nodes round the bad elements.
 const ROUNDS: usize = 8;
 
 /// Eases the nodes round the elements with a corner outside the window;
 /// returns the moves kept (0, and the mesh untouched, when there is none).
 pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
+    let around = node_elements(mesh);
+    let neighbours = element_neighbours(mesh, &around);
     let bad: Vec<u32> = (0..mesh.quads.len() as u32)
-        .filter(|&q| badness_of(mesh, q as usize, bounds) > 0.0)
+        .filter(|&q| {
+            badness_of(mesh, q as usize, bounds) > 0.0
+                || size_shape_excess(mesh, q, &neighbours[q as usize], &|e| quad_area(mesh, e), bounds)
+                    > 1.0
+        })
         .collect();
     if bad.is_empty() {
         return 0;
     }
-    let around = node_elements(mesh);
-    let neighbours = element_neighbours(mesh, &around);
     // the free nodes within two rings of the bad elements
     let mut near = vec![false; mesh.nodes.len()];
     let mut quads = bad;
@@ -52,7 +61,6 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
     let nodes: Vec<usize> = (0..mesh.nodes.len())
         .filter(|&n| near[n] && mesh.kinds[n] == NodeKind::Interior && !around[n].is_empty())
         .collect();
-    let area = |m: &Mesh, q: u32| crate::element_quality::quad_area(m, q);
     let mut moved = 0;
     for _ in 0..ROUNDS {
         let mut any = false;
@@ -68,12 +76,13 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
             let shape = |m: &Mesh| {
                 judged
                     .iter()
-                    .map(|&q| size_shape_excess(m, q, &neighbours[q as usize], &|e| area(m, e), bounds))
+                    .map(|&q| size_shape_excess(m, q, &neighbours[q as usize], &|e| quad_area(m, e), bounds))
                     .fold(0.0, f64::max)
             };
-            let shape_cap = shape(mesh).max(1.0);
+            // past the size and shape bounds: how far, as a share of them
+            let past = |m: &Mesh| (shape(m) - SHAPE_AIM).max(0.0);
             let (worst, _) = worst_around(mesh, &around[n], bounds);
-            let start = (worst, strain(mesh, &around[n], bounds));
+            let start = (worst, past(mesh), strain(mesh, &around[n], bounds));
             let old = mesh.nodes[n];
             let best = compass_search(
                 mesh,
@@ -85,13 +94,19 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
                     if !w.is_finite() || w > best.0 + 1e-9 {
                         return None;
                     }
-                    let s = strain(m, &around[n], bounds);
-                    if s >= best.1 || shape(m) > shape_cap + 1e-9 {
+                    let p = past(m);
+                    if p > best.1 + 1e-12 {
                         return None;
                     }
-                    Some((w, s))
+                    Some((w, p, strain(m, &around[n], bounds)))
                 },
-                |w, best| w.0 < best.0 - 1e-9 || (w.0 <= best.0 + 1e-9 && w.1 < best.1 * (1.0 - 1e-6)),
+                // corners first, then size and shape, then room
+                |w, best| {
+                    w.0 < best.0 - 1e-9
+                        || (w.0 <= best.0 + 1e-9
+                            && (w.1 < best.1 - 1e-12
+                                || (w.1 <= best.1 + 1e-12 && w.2 < best.2 * (1.0 - 1e-6))))
+                },
             );
             if best != old {
                 mesh.nodes[n] = best;
@@ -132,16 +147,14 @@ mod tests {
     use crate::mesh::Mesh;
     use glam::DVec2;
 
-    /// A 3 x 1 row of unit squares over a 3 x 1 row, the middle nodes of
-    /// the shared line pushed sideways so that the elements are sheared
-    /// past the window; the top and bottom rows' outer nodes are fixed.
+    /// A 2 x 2 block of unit squares, its centre node pushed towards a
+    /// corner until the element there has a corner of 169 degrees.
     #[test]
-    fn a_sheared_corner_is_eased_back_into_the_window() {
+    fn a_corner_past_the_window_is_eased_back_into_it() {
         let mut m = Mesh::default();
-        // 4 x 3 grid of nodes, x = 0..3, y = 0..2
         for y in 0..3 {
-            for x in 0..4 {
-                let kind = if y == 1 && (x == 1 || x == 2) {
+            for x in 0..3 {
+                let kind = if x == 1 && y == 1 {
                     NodeKind::Interior
                 } else {
                     NodeKind::Boundary
@@ -149,14 +162,13 @@ mod tests {
                 m.add_node(DVec2::new(x as f64, y as f64), kind);
             }
         }
-        let id = |x: u32, y: u32| y * 4 + x;
+        let id = |x: u32, y: u32| y * 3 + x;
         for y in 0..2 {
-            for x in 0..3 {
+            for x in 0..2 {
                 m.quads.push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
             }
         }
-        m.nodes[id(1, 1) as usize].x += 0.55;
-        m.nodes[id(2, 1) as usize].x += 0.55;
+        m.nodes[id(1, 1) as usize] = DVec2::new(1.45, 1.45);
         let bounds = ElementBounds::new(45.0, 135.0, 10.0, 10.0, 2.0).unwrap();
         let worst = |m: &Mesh| {
             (0..m.quads.len())
