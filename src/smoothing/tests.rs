@@ -69,6 +69,23 @@ fn two_by_two_block() -> Mesh {
     m
 }
 
+/// The centre node pushed towards a corner until the element there has a
+/// corner of 169 degrees: easing brings it back into the window.
+#[test]
+fn a_corner_past_the_window_is_eased_back_into_it() {
+    let mut m = two_by_two_block();
+    m.nodes[4] = DVec2::new(1.45, 1.45);
+    let bounds = ElementBounds::default();
+    let worst = |m: &Mesh| {
+        (0..m.quads.len())
+            .map(|q| crate::element_quality::badness_of(m, q, &bounds))
+            .fold(0.0, f64::max)
+    };
+    assert!(worst(&m) > 0.0);
+    assert!(crate::smoothing::ease_bad_corners(&mut m, &bounds) > 0);
+    assert_eq!(worst(&m), 0.0);
+}
+
 #[test]
 fn centre_node_of_a_two_by_two_block_moves_to_the_middle() {
     let mut m = two_by_two_block();
