@@ -281,7 +281,12 @@ fn wide_corners(pm: &PartialMesh, q: &[QNode; 4]) -> Vec<Relation> {
         .iter()
         .map(|&x| qpos(&pm.front, &pm.mesh.nodes, x))
         .collect();
-    let names = [ElementNode::N1, ElementNode::N2, ElementNode::N3, ElementNode::N4];
+    let names = [
+        ElementNode::N1,
+        ElementNode::N2,
+        ElementNode::N3,
+        ElementNode::N4,
+    ];
     (0..4)
         .filter_map(|i| {
             let deg = corner_angle(pos[(i + 3) % 4], pos[i], pos[(i + 1) % 4]);

@@ -32,8 +32,13 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
     let bad: Vec<u32> = (0..mesh.quads.len() as u32)
         .filter(|&q| {
             badness_of(mesh, q as usize, bounds) > 0.0
-                || size_shape_excess(mesh, q, &neighbours[q as usize], &|e| quad_area(mesh, e), bounds)
-                    > 1.0
+                || size_shape_excess(
+                    mesh,
+                    q,
+                    &neighbours[q as usize],
+                    &|e| quad_area(mesh, e),
+                    bounds,
+                ) > 1.0
         })
         .collect();
     if bad.is_empty() {
@@ -76,7 +81,15 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
             let shape = |m: &Mesh| {
                 judged
                     .iter()
-                    .map(|&q| size_shape_excess(m, q, &neighbours[q as usize], &|e| quad_area(m, e), bounds))
+                    .map(|&q| {
+                        size_shape_excess(
+                            m,
+                            q,
+                            &neighbours[q as usize],
+                            &|e| quad_area(m, e),
+                            bounds,
+                        )
+                    })
                     .fold(0.0, f64::max)
             };
             // past the size and shape bounds: how far, as a share of them
