@@ -115,25 +115,23 @@ pub fn try_close_loop(
         }
     }
     if let Some((_, quads, new_pts, text)) = best {
-        {
-            let base = pm.mesh.nodes.len() as u32;
-            let quads_ids: Vec<[u32; 4]> = quads
-                .iter()
-                .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
-                .collect();
-            pm.close_with(
-                l,
-                quads_ids,
-                &new_pts,
-                Closing {
-                    feature: "final6",
-                    action: text,
-                    angles: angle_map,
-                    by: By::Pattern,
-                },
-            );
-            return Ok(true);
-        }
+        let base = pm.mesh.nodes.len() as u32;
+        let quads_ids: Vec<[u32; 4]> = quads
+            .iter()
+            .map(|qd| qd.map(|i| if i < 6 { ids[i] } else { base + (i - 6) as u32 }))
+            .collect();
+        pm.close_with(
+            l,
+            quads_ids,
+            &new_pts,
+            Closing {
+                feature: "final6",
+                action: text,
+                angles: angle_map,
+                by: By::Pattern,
+            },
+        );
+        return Ok(true);
     }
     Ok(false)
 }
