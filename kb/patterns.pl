@@ -21,6 +21,7 @@ elements are valid with every corner inside [lower_corner, upper_corner]
 */
 
 :- dynamic(final_pattern/3).
+:- dynamic(closing_way/2).
 
 %% final_pattern(+Angles, ?K, -Pattern)
 %
@@ -58,3 +59,30 @@ rotated_(As, K, Rs) :-
 %    P = pattern3(0).
 loop_patterns(As, Ps) :-
     findall(P, final_pattern(As, _, P), Ps).
+
+%% closing_way(+Segments, ?Way)
+%
+% Where no rule applies and a loop of at most
+% bound(closing_loop_segments, _) segments is left, the host closes it
+% whole by the best of the ways allowed here (its worst element nearest
+% a square; the new nodes placed by a search); the smaller loops a chord
+% or a path leaves are closed the same way, by the ways for their own
+% number of segments:
+%
+%   quad    a four-segment loop is one element
+%   inset   a four-segment loop gets a quad inside it and four round it
+%           (a loop that is no element: a triangle with a node on a side)
+%   hub     a new node linked to every other node of the loop
+%   chord   a chord between two nodes parts the loop in two
+%   path    a path of two segments through a new node parts it in two
+%           (a block of 2 x 3 elements is a path and a hub)
+%
+% ?- findall(W, closing_way(8, W), Ws).
+%    Ws = [hub, chord, path].
+% ?- findall(W, closing_way(4, W), Ws).
+%    Ws = [quad, inset].
+closing_way(4, quad).
+closing_way(4, inset).
+closing_way(N, hub) :- N >= 6.
+closing_way(N, chord) :- N >= 6.
+closing_way(N, path) :- N >= 8.

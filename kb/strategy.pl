@@ -107,6 +107,9 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 %   rings of it, and those across it, are meshed again by triangles split
 %   into quads with the segment in place (the trace's `stuck` step says
 %   so); the rest of the mesh stays as the rules made it.
+% closing_loop_segments: where no rule applies, a loop of at most this
+%   many segments is closed whole by the ways of closing_way/2
+%   (patterns.pl); 0 leaves every loop to the fallbacks.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -140,3 +143,4 @@ bound(row_growth, 1.5).
 bound(block_size, 4).
 bound(block_arc_step, 45).
 bound(fallback_reopen_rings, 2).
+bound(closing_loop_segments, 12).

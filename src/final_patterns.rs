@@ -1,7 +1,10 @@
 //! Final patterns: a loop of four segments is one element; a loop of six
 //! is closed by the first of the KB's patterns 1-3 (kb/patterns.pl) whose
 //! elements are convex and clear of the front. Patterns 1 and 2 add a node
-//! (Eq. 5 and 6).
+//! (Eq. 5 and 6). Where no rule applies, a small loop is closed whole by
+//! the ways of the KB's `closing_way/2` (closing.rs).
+
+mod closing;
 
 use glam::DVec2;
 
@@ -135,6 +138,127 @@ pub fn try_close_loop(
     }
     Ok(false)
 }
+
+/// Closes loop `l`, one the rules are stuck on, whole by the best of the
+/// ways the KB's `closing_way/2` allows, if it has at most
+/// `bound(closing_loop_segments, _)` segments. With `strict`, only where
+/// every element has its corners inside the window; else where every
+/// element is convex. The elements must be clear of the rest of the front.
+pub fn try_close_stuck_loop(
+    pm: &mut PartialMesh,
+    kb: &mut KnowledgeBase,
+    l: u32,
+    strict: bool,
+) -> Result<bool, KbError> {
+    let n = pm.front.loop_len(l);
+    if n < 4 || n % 2 == 1 || n as f64 > pm.host.closing_loop_segments {
+        return Ok(false);
+    }
+    let fvs = pm.front.loop_fvs(l);
+    let ids: Vec<u32> = fvs.iter().map(|&f| pm.front.node(f)).collect();
+    if !distinct(&ids) {
+        return Ok(false);
+    }
+    let mut ways = vec![closing::Ways::default(); n + 1];
+    for (k, w) in ways.iter_mut().enumerate().skip(4).step_by(2) {
+        for name in kb.closing_ways(k)? {
+            match name.as_str() {
+                "quad" => w.quad = true,
+                "inset" => w.inset = true,
+                "hub" => w.hub = true,
+                "chord" => w.chord = true,
+                "path" => w.path = true,
+                _ => {}
+            }
+        }
+    }
+    let p: Vec<DVec2> = ids.iter().map(|&i| pm.mesh.nodes[i as usize]).collect();
+    let Some(closed) = closing::close_loop(&p, &ways) else {
+        return Ok(false);
+    };
+    let pt = |i: usize| {
+        if i < n {
+            p[i]
+        } else {
+            closed.new_points[i - n]
+        }
+    };
+    // strict: corners in the window, and an element on the loop about
+    // the size of the loop's edges it takes (the elements across them are)
+    let fits = |qd: &[usize; 4]| {
+        let q = qd.map(pt);
+        if !convex_ok(&q) {
+            return false;
+        }
+        if !strict {
+            return true;
+        }
+        let (mut sum, mut k) = (0.0, 0);
+        for i in 0..4 {
+            let (a, b) = (qd[i], qd[(i + 1) % 4]);
+            if a < n && b < n && (b == (a + 1) % n || a == (b + 1) % n) {
+                sum += (p[a] - p[b]).length();
+                k += 1;
+            }
+        }
+        let side = ((q[2] - q[0]).perp_dot(q[3] - q[1]).abs() * 0.5).sqrt();
+        let size_fits = k == 0 || {
+            let r = side * k as f64 / sum;
+            (1.0 / STRICT_SIZE..=STRICT_SIZE).contains(&r)
+        };
+        size_fits && crate::element_quality::worst_excess(q, &pm.bounds) == 0.0
+    };
+    if !closed.quads.iter().all(fits) {
+        return Ok(false);
+    }
+    let clear = closed.quads.iter().all(|qd| {
+        let qids: Vec<Option<u32>> = qd
+            .iter()
+            .map(|&i| if i < n { Some(ids[i]) } else { None })
+            .collect();
+        quad_clear(pm, qd.map(pt), &qids, 0.0)
+    });
+    if !clear {
+        return Ok(false);
+    }
+    let angles: Vec<(&'static str, f64)> = fvs
+        .iter()
+        .zip(ANGLE_NAMES)
+        .map(|(&f, name)| (name, deg_round(pm.front.angle(f, &pm.mesh.nodes))))
+        .collect();
+    let base = pm.mesh.nodes.len() as u32;
+    let quads_ids: Vec<[u32; 4]> = closed
+        .quads
+        .iter()
+        .map(|qd| qd.map(|i| if i < n { ids[i] } else { base + (i - n) as u32 }))
+        .collect();
+    let feature = format!("final{n}");
+    pm.close_with(
+        l,
+        quads_ids,
+        &closed.new_points,
+        Closing {
+            feature: &feature,
+            action: closed.text,
+            angles: Angles::new(angles),
+            by: By::Pattern,
+        },
+    );
+    Ok(true)
+}
+
+/// How far (a factor) a strictly closed loop's element may be from the
+/// size of the loop's edges it takes: its neighbours across them are
+/// about that size, and the size jump allowed is 2.
+const STRICT_SIZE: f64 = 1.6;
+
+/// The trace's names of a closed loop's angles, in loop order (the bound
+/// `closing_loop_segments` is below 41).
+const ANGLE_NAMES: [&str; 40] = [
+    "a1", "a2", "a3", "a4", "a5", "a6", "a7", "a8", "a9", "a10", "a11", "a12", "a13", "a14", "a15",
+    "a16", "a17", "a18", "a19", "a20", "a21", "a22", "a23", "a24", "a25", "a26", "a27", "a28",
+    "a29", "a30", "a31", "a32", "a33", "a34", "a35", "a36", "a37", "a38", "a39", "a40",
+];
 
 /// The position of an inner node (index 6 in `quads`) that makes the
 /// elements convex with the largest smallest angle: `first` if it is good,

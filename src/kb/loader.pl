@@ -107,6 +107,16 @@ fm_patterns(As, R) :-
     ;   Outcome = fault(Why), R = fault(final_pattern, Why)
     ).
 
+%% fm_closing_ways(+Segments, -R)
+%
+% R = ws(Ways), the ways closing_way/2 allows for a loop of Segments,
+% or fault(closing_way, Why).
+fm_closing_ways(N, R) :-
+    fm_bounded_(findall(W, closing_way(N, W), Ws), Outcome),
+    (   Outcome == true -> R = ws(Ws)
+    ;   Outcome = fault(Why), R = fault(closing_way, Why)
+    ).
+
 % Only the built-in rules are loaded (the host states it, and takes it
 % back before it consults a user's file or runs a user's query): they end
 % on every question (no recursion but over short lists), so the inference

@@ -159,6 +159,17 @@ impl KnowledgeBase {
             .collect())
     }
 
+    /// The ways `closing_way/2` allows to close a loop of `segments` the
+    /// rules are stuck on (kb/patterns.pl): `quad`, `inset`, `hub`,
+    /// `chord`, `path`; other answers are left out.
+    pub fn closing_ways(&mut self, segments: usize) -> Result<Vec<String>, KbError> {
+        let ans = self.ask_bounded(
+            &terms::closing_ways_question(segments),
+            &format!("a loop of {segments} segments"),
+        )?;
+        Ok(terms::closing_ways_answer(ans))
+    }
+
     /// Whether the KB calls a front corner of `angle` degrees concave.
     pub fn is_concave(&mut self, angle: f64) -> Result<bool, KbError> {
         Ok(!self.run(&terms::concave_question(angle))?.is_empty())

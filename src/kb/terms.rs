@@ -490,6 +490,28 @@ pub(super) fn patterns_question(list: &str) -> String {
     format!("fm_patterns([{list}], R).")
 }
 
+/// The closing-ways question for a loop of `segments`.
+pub(super) fn closing_ways_question(segments: usize) -> String {
+    format!("fm_closing_ways({segments}, R).")
+}
+
+/// An answer to the closing-ways question: the ways' names, in the KB's
+/// order (terms that are not atoms left out).
+pub(super) fn closing_ways_answer(ans: Option<Term>) -> Vec<String> {
+    let Some(Term::Compound(_, mut ws)) = ans else {
+        return Vec::new();
+    };
+    let Some(Term::List(ways)) = ws.pop() else {
+        return Vec::new();
+    };
+    ways.iter()
+        .filter_map(|w| match w {
+            Term::Atom(a) => Some(a.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// An answer to the final-patterns question: each pattern term's name,
 /// the node it starts at (mod 6) and its text, in the KB's order; terms
 /// that are not a pattern with a start node are left out.

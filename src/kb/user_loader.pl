@@ -159,6 +159,7 @@ fm_probe_(redesign_rule(_, C, A, V, _)) :-
 fm_probe_(final_pattern(As, _, _)) :-
     member(As, [[90, 90, 180, 90, 90, 180], [120, 120, 120, 120, 120, 120],
                 [60, 200, 90, 100, 150, 120]]).
+fm_probe_(closing_way(N, _)) :- member(N, [4, 6, 8, 12]).
 fm_probe_(strategy(_)).
 fm_probe_(bound(_, _)).
 

@@ -293,9 +293,16 @@ impl<'k> Mesher<'k> {
                     changed = true;
                     continue;
                 }
-                if self.fallback_split(l)? {
+                if self.close_stuck_loop(l, true)? || self.fallback_split(l)? {
                     changed = true;
                 }
+            }
+        }
+        if !changed {
+            // nothing else moves: a small loop closed whole with convex
+            // elements is better than the open loops' fallback
+            for l in self.pm.front.live_loops() {
+                changed |= self.close_stuck_loop(l, false)?;
             }
         }
         if !changed {
@@ -581,6 +588,18 @@ impl<'k> Mesher<'k> {
     /// Closes a loop of four or six segments with the final patterns.
     fn try_close_loop(&mut self, l: u32) -> Result<bool, MeshError> {
         Ok(final_patterns::try_close_loop(&mut self.pm, self.kb, l)?)
+    }
+
+    /// Closes a small loop the rules are stuck on whole (the KB's
+    /// `closing_way/2`); with `strict`, only with every corner inside the
+    /// window.
+    fn close_stuck_loop(&mut self, l: u32, strict: bool) -> Result<bool, MeshError> {
+        Ok(final_patterns::try_close_stuck_loop(
+            &mut self.pm,
+            self.kb,
+            l,
+            strict,
+        )?)
     }
 
     /// One loop the rules are stuck on, to the fallbacks: a clear chord

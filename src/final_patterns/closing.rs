@@ -1,0 +1,402 @@
+//! Closing a small loop whole, where the rules are stuck on it: every
+//! way the KB's `closing_way/2` allows is tried (one element, a quad
+//! inset in a four-segment loop, a hub node linked to every other node,
+//! a chord into two smaller loops, a two-segment path through a new node
+//! into two smaller loops; the smaller loops closed the same way), the
+//! new nodes placed by a compass search, and the way whose worst element
+//! is best wins.
+//!
+//! An element's score is its worst corner's distance from 90 degrees,
+//! plus a penalty where its size is more than twice off the loop's edges
+//! (so an inset quad does not shrink to nothing): at most 45 with every
+//! corner in [45, 135] and the size in range; above `NOT_CONVEX` when
+//! the element is not convex.
+
+use glam::DVec2;
+use std::collections::HashMap;
+
+use crate::geometry::{interior_angle, quad_angles, segments_intersect, SegmentRelation};
+
+/// The ways a loop may be closed (the KB's `closing_way/2` answers).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Ways {
+    /// A four-segment loop as one element.
+    pub quad: bool,
+    /// A four-segment loop as a quad inset in it and four round it.
+    pub inset: bool,
+    /// A new node linked to every other node of the loop.
+    pub hub: bool,
+    /// A chord between two nodes: two smaller loops.
+    pub chord: bool,
+    /// A path of two segments through a new node: two smaller loops.
+    pub path: bool,
+}
+
+/// How a loop was closed: elements over the loop's nodes (`0..n`) and the
+/// new nodes (`n..`), the new nodes' places, the way in words and the
+/// worst element's score.
+#[derive(Debug, Clone)]
+pub struct Closed {
+    pub quads: Vec<[usize; 4]>,
+    pub new_points: Vec<DVec2>,
+    pub text: String,
+    pub score: f64,
+}
+
+/// The score of an element (see the module's comment); `size` is the
+/// loop's mean edge.
+fn element_score(q: [DVec2; 4], size: f64) -> f64 {
+    let angles = quad_angles(q);
+    let corners = angles.iter().map(|&a| (a - 90.0).abs()).fold(0.0, f64::max);
+    if corners >= 89.0 {
+        // not convex (or a corner within a degree of flat, as
+        // validity.rs's convex_ok): worse than any convex element
+        return NOT_CONVEX + corners;
+    }
+    let area = 0.5
+        * ((q[2] - q[0]).perp_dot(q[3] - q[1]))
+            .abs()
+            .max(f64::MIN_POSITIVE);
+    let off = (area.sqrt() / size).log2().abs();
+    corners + 45.0 * (off - 1.0).max(0.0)
+}
+
+/// The least score of an element that is not convex.
+const NOT_CONVEX: f64 = 1e6;
+
+fn worst(quads: &[[usize; 4]], pt: &dyn Fn(usize) -> DVec2, size: f64) -> f64 {
+    quads
+        .iter()
+        .map(|q| element_score(q.map(pt), size))
+        .fold(0.0, f64::max)
+}
+
+/// Moves the `free` points (indices into `pts`) by a compass search that
+/// lowers the worst score of `quads`; returns the score reached.
+fn place(pts: &mut [DVec2], free: &[usize], quads: &[[usize; 4]], size: f64) -> f64 {
+    let mut best = worst(quads, &|i| pts[i], size);
+    let mut step = 0.25 * size;
+    let dirs = [DVec2::X, DVec2::NEG_X, DVec2::Y, DVec2::NEG_Y];
+    while step > 1e-3 * size && !free.is_empty() {
+        let mut moved = false;
+        for &f in free {
+            for d in dirs {
+                let old = pts[f];
+                pts[f] = old + d * step;
+                let s = worst(quads, &|i| pts[i], size);
+                if s < best - 1e-9 {
+                    best = s;
+                    moved = true;
+                } else {
+                    pts[f] = old;
+                }
+            }
+        }
+        if !moved {
+            step *= 0.5;
+        }
+    }
+    best
+}
+
+/// Whether the chord `a`-`b` (positions in `poly`, a counter-clockwise
+/// loop) runs inside the loop.
+fn chord_inside(pts: &[DVec2], poly: &[usize], a: usize, b: usize) -> bool {
+    let n = poly.len();
+    let (pa, pb) = (pts[poly[a]], pts[poly[b]]);
+    // it leaves each end into the loop's interior angle
+    for (v, w) in [(a, pb), (b, pa)] {
+        let (prev, here, next) = (
+            pts[poly[(v + n - 1) % n]],
+            pts[poly[v]],
+            pts[poly[(v + 1) % n]],
+        );
+        let open = interior_angle(prev, here, next);
+        let to = interior_angle(w, here, next);
+        if !(to > 1e-6 && to < open - 1e-6) {
+            return false;
+        }
+    }
+    // and crosses no edge of the loop
+    (0..n).all(|i| {
+        let j = (i + 1) % n;
+        if [i, j].contains(&a) || [i, j].contains(&b) {
+            return true;
+        }
+        segments_intersect(pa, pb, pts[poly[i]], pts[poly[j]]) == SegmentRelation::Disjoint
+    })
+}
+
+/// The search over the ways: loops are lists of point indices, the new
+/// nodes of paths and the inner nodes of each way appended to `pts`.
+struct Search {
+    pts: Vec<DVec2>,
+    /// The ways allowed, by the loop's number of segments.
+    ways: Vec<Ways>,
+    size: f64,
+    /// A path's middle node for each pair of ends, so a loop reached twice
+    /// is the same loop.
+    middles: HashMap<(usize, usize), usize>,
+    memo: HashMap<Vec<usize>, Option<Closed>>,
+}
+
+impl Search {
+    fn close(&mut self, poly: &[usize]) -> Option<Closed> {
+        if let Some(done) = self.memo.get(poly) {
+            return done.clone();
+        }
+        let best = self.close_fresh(poly);
+        self.memo.insert(poly.to_vec(), best.clone());
+        best
+    }
+
+    /// Elements are over global point indices here; `Closed::new_points`
+    /// stays empty until the end (every new node is in `pts`).
+    fn close_fresh(&mut self, poly: &[usize]) -> Option<Closed> {
+        let n = poly.len();
+        let ways = self.ways.get(n).copied().unwrap_or_default();
+        let mut best: Option<Closed> = None;
+        let mut keep = |c: Closed| {
+            if c.score < NOT_CONVEX && best.as_ref().is_none_or(|b| c.score < b.score) {
+                best = Some(c);
+            }
+        };
+        if n == 4 && ways.quad {
+            let q = [poly[0], poly[1], poly[2], poly[3]];
+            let score = worst(&[q], &|i| self.pts[i], self.size);
+            keep(Closed {
+                quads: vec![q],
+                new_points: vec![],
+                text: "quad".into(),
+                score,
+            });
+        }
+        if n == 4 && ways.inset {
+            keep(self.inset(poly));
+        }
+        if n >= 6 && ways.hub {
+            for parity in 0..2 {
+                keep(self.hub(poly, parity));
+            }
+        }
+        if n >= 6 && ways.chord {
+            for a in 0..n {
+                for b in (a + 3..n).step_by(2) {
+                    if n - (b - a) < 3 || !chord_inside(&self.pts, poly, a, b) {
+                        continue;
+                    }
+                    let left: Vec<usize> = poly[a..=b].to_vec();
+                    let right: Vec<usize> = poly[b..].iter().chain(&poly[..=a]).copied().collect();
+                    if let Some(c) = self.both(&left, &right, format!("chord({a}, {b}")) {
+                        keep(c);
+                    }
+                }
+            }
+        }
+        if n >= 8 && ways.path {
+            for a in 0..n {
+                for b in (a + 4..n).step_by(2) {
+                    if n - (b - a) < 4 || !chord_inside(&self.pts, poly, a, b) {
+                        continue;
+                    }
+                    let m = self.middle(poly[a], poly[b]);
+                    let mut left: Vec<usize> = poly[a..=b].to_vec();
+                    left.push(m);
+                    let mut right: Vec<usize> =
+                        poly[b..].iter().chain(&poly[..=a]).copied().collect();
+                    right.push(m);
+                    if let Some(c) = self.both(&left, &right, format!("path({a}, {b}")) {
+                        keep(c);
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    fn both(&mut self, left: &[usize], right: &[usize], how: String) -> Option<Closed> {
+        let l = self.close(left)?;
+        let r = self.close(right)?;
+        Some(Closed {
+            quads: l.quads.iter().chain(&r.quads).copied().collect(),
+            new_points: vec![],
+            text: format!("{how}, {}, {})", l.text, r.text),
+            score: l.score.max(r.score),
+        })
+    }
+
+    /// The middle node of a path between points `a` and `b`.
+    fn middle(&mut self, a: usize, b: usize) -> usize {
+        if let Some(&m) = self.middles.get(&(a, b)) {
+            return m;
+        }
+        self.pts.push((self.pts[a] + self.pts[b]) * 0.5);
+        let m = self.pts.len() - 1;
+        self.middles.insert((a, b), m);
+        m
+    }
+
+    fn centroid(&self, poly: &[usize]) -> DVec2 {
+        poly.iter().map(|&i| self.pts[i]).sum::<DVec2>() / poly.len() as f64
+    }
+
+    fn hub(&mut self, poly: &[usize], parity: usize) -> Closed {
+        let n = poly.len();
+        let linked: Vec<usize> = (0..n / 2).map(|k| poly[(2 * k + parity) % n]).collect();
+        self.pts.push(self.centroid(&linked));
+        let h = self.pts.len() - 1;
+        let quads: Vec<[usize; 4]> = (0..n / 2)
+            .map(|k| {
+                let at = |i: usize| poly[(2 * k + parity + i) % n];
+                [at(0), at(1), at(2), h]
+            })
+            .collect();
+        let score = place(&mut self.pts, &[h], &quads, self.size);
+        Closed {
+            quads,
+            new_points: vec![],
+            text: format!("hub({parity})"),
+            score,
+        }
+    }
+
+    fn inset(&mut self, poly: &[usize]) -> Closed {
+        let c = self.centroid(poly);
+        let inner: Vec<usize> = poly
+            .iter()
+            .map(|&i| {
+                self.pts.push(self.pts[i].lerp(c, 0.45));
+                self.pts.len() - 1
+            })
+            .collect();
+        let mut quads: Vec<[usize; 4]> = (0..4)
+            .map(|k| [poly[k], poly[(k + 1) % 4], inner[(k + 1) % 4], inner[k]])
+            .collect();
+        quads.push([inner[0], inner[1], inner[2], inner[3]]);
+        let score = place(&mut self.pts, &inner, &quads, self.size);
+        Closed {
+            quads,
+            new_points: vec![],
+            text: "inset".into(),
+            score,
+        }
+    }
+}
+
+/// The best way to close the loop through `points` (counter-clockwise,
+/// the region on the left) with the `ways` allowed, or None if no way
+/// gives convex elements. `ways[k]` are the ways for a loop of `k`
+/// segments. The new nodes of the chosen way are placed
+/// again, all together, at the end.
+pub fn close_loop(points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
+    let n = points.len();
+    if n < 4 || n % 2 == 1 {
+        return None;
+    }
+    let size = (0..n)
+        .map(|i| (points[(i + 1) % n] - points[i]).length())
+        .sum::<f64>()
+        / n as f64;
+    let mut search = Search {
+        pts: points.to_vec(),
+        ways: ways.to_vec(),
+        size,
+        middles: HashMap::new(),
+        memo: HashMap::new(),
+    };
+    let loop_: Vec<usize> = (0..n).collect();
+    let mut best = search.close(&loop_)?;
+    // renumber the new nodes the way uses, in order of first use
+    let mut renumber: HashMap<usize, usize> = HashMap::new();
+    let mut new_points = Vec::new();
+    for q in &mut best.quads {
+        for i in q.iter_mut() {
+            if *i >= n {
+                let next = n + renumber.len();
+                *i = *renumber.entry(*i).or_insert_with(|| {
+                    new_points.push(search.pts[*i]);
+                    next
+                });
+            }
+        }
+    }
+    let mut pts: Vec<DVec2> = points.iter().copied().chain(new_points).collect();
+    let free: Vec<usize> = (n..pts.len()).collect();
+    best.score = place(&mut pts, &free, &best.quads, size);
+    best.new_points = pts[n..].to_vec();
+    Some(best)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const EVERY: Ways = Ways {
+        quad: true,
+        inset: true,
+        hub: true,
+        chord: true,
+        path: true,
+    };
+    const ALL: &[Ways] = &[EVERY; 13];
+
+    fn rect(w: usize, h: usize) -> Vec<DVec2> {
+        let mut p = Vec::new();
+        for i in 0..w {
+            p.push(DVec2::new(i as f64, 0.0));
+        }
+        for j in 0..h {
+            p.push(DVec2::new(w as f64, j as f64));
+        }
+        for i in (1..=w).rev() {
+            p.push(DVec2::new(i as f64, h as f64));
+        }
+        for j in (1..=h).rev() {
+            p.push(DVec2::new(0.0, j as f64));
+        }
+        p
+    }
+
+    #[test]
+    fn a_two_by_three_block_closes_as_its_grid() {
+        let c = close_loop(&rect(3, 2), ALL).expect("closed");
+        assert_eq!(c.quads.len(), 6, "{}", c.text);
+        assert!(c.score < 1.0, "score {} by {}", c.score, c.text);
+    }
+
+    #[test]
+    fn a_triangle_with_a_node_on_one_side_is_an_inset_quad() {
+        // a four-segment loop that is no element: one node straight
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(1.0, 1.6),
+        ];
+        let c = close_loop(&p, ALL).expect("closed");
+        assert_eq!(c.text, "inset");
+        assert_eq!(c.quads.len(), 5);
+        // convex (the triangle's corners split in two cannot all be in
+        // the window)
+        assert!(c.score < NOT_CONVEX, "score {}", c.score);
+        let without = [Ways {
+            inset: false,
+            ..EVERY
+        }; 5];
+        assert!(close_loop(&p, &without).is_none());
+    }
+
+    #[test]
+    fn an_odd_loop_is_not_closed() {
+        let p = [DVec2::ZERO, DVec2::X, DVec2::ONE];
+        assert!(close_loop(&p, ALL).is_none());
+    }
+
+    #[test]
+    fn the_kb_names_the_ways_for_each_loop() {
+        let mut kb = crate::kb::KnowledgeBase::builtin().unwrap();
+        assert_eq!(kb.closing_ways(4).unwrap(), ["quad", "inset"]);
+        assert_eq!(kb.closing_ways(6).unwrap(), ["hub", "chord"]);
+        assert_eq!(kb.closing_ways(10).unwrap(), ["hub", "chord", "path"]);
+    }
+}
