@@ -156,27 +156,33 @@ impl Search {
         let n = poly.len();
         let ways = self.ways.get(n).copied().unwrap_or_default();
         let mut best: Option<Closed> = None;
-        let mut keep = |c: Closed| {
+        let keep = |best: &mut Option<Closed>, c: Closed| {
             if c.score < NOT_CONVEX && best.as_ref().is_none_or(|b| c.score < b.score) {
-                best = Some(c);
+                *best = Some(c);
             }
         };
+        // what a split must beat: its first loop's score alone can rule it
+        // out before the second is closed (a split's score is the larger)
+        let beat = |best: &Option<Closed>| best.as_ref().map_or(NOT_CONVEX, |b| b.score);
         if n == 4 && ways.quad {
             let q = [poly[0], poly[1], poly[2], poly[3]];
             let score = worst(&[q], &|i| self.pts[i], self.size);
-            keep(Closed {
-                quads: vec![q],
-                new_points: vec![],
-                text: "quad".into(),
-                score,
-            });
+            keep(
+                &mut best,
+                Closed {
+                    quads: vec![q],
+                    new_points: vec![],
+                    text: "quad".into(),
+                    score,
+                },
+            );
         }
         if n == 4 && ways.inset {
-            keep(self.inset(poly));
+            keep(&mut best, self.inset(poly));
         }
         if n >= 6 && ways.hub {
             for parity in 0..2 {
-                keep(self.hub(poly, parity));
+                keep(&mut best, self.hub(poly, parity));
             }
         }
         if n >= 6 && ways.chord {
@@ -187,8 +193,9 @@ impl Search {
                     }
                     let left: Vec<usize> = poly[a..=b].to_vec();
                     let right: Vec<usize> = poly[b..].iter().chain(&poly[..=a]).copied().collect();
-                    if let Some(c) = self.both(&left, &right, format!("chord({a}, {b}")) {
-                        keep(c);
+                    let how = format!("chord({a}, {b}");
+                    if let Some(c) = self.both(&left, &right, how, beat(&best)) {
+                        keep(&mut best, c);
                     }
                 }
             }
@@ -205,8 +212,9 @@ impl Search {
                     let mut right: Vec<usize> =
                         poly[b..].iter().chain(&poly[..=a]).copied().collect();
                     right.push(m);
-                    if let Some(c) = self.both(&left, &right, format!("path({a}, {b}")) {
-                        keep(c);
+                    let how = format!("path({a}, {b}");
+                    if let Some(c) = self.both(&left, &right, how, beat(&best)) {
+                        keep(&mut best, c);
                     }
                 }
             }
@@ -214,8 +222,13 @@ impl Search {
         best
     }
 
-    fn both(&mut self, left: &[usize], right: &[usize], how: String) -> Option<Closed> {
+    /// The split into loops `left` and `right`, or None where either
+    /// cannot be closed or `left` alone scores `beat` or worse.
+    fn both(&mut self, left: &[usize], right: &[usize], how: String, beat: f64) -> Option<Closed> {
         let l = self.close(left)?;
+        if l.score >= beat {
+            return None;
+        }
         let r = self.close(right)?;
         Some(Closed {
             quads: l.quads.iter().chain(&r.quads).copied().collect(),
