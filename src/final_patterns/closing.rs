@@ -15,7 +15,7 @@
 use glam::DVec2;
 use std::collections::HashMap;
 
-use crate::geometry::{interior_angle, quad_angles, segments_intersect, SegmentRelation};
+use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 
 /// The ways a loop may be closed (the KB's `closing_way/2` answers).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -46,8 +46,7 @@ pub struct Closed {
 /// The score of an element (see the module's comment); `size` is the
 /// loop's mean edge.
 fn element_score(q: [DVec2; 4], size: f64) -> f64 {
-    let angles = quad_angles(q);
-    let corners = angles.iter().map(|&a| (a - 90.0).abs()).fold(0.0, f64::max);
+    let corners = worst_corner_off_right(q);
     if corners >= 89.0 {
         // not convex (or a corner within a degree of flat, as
         // validity.rs's convex_ok): worse than any convex element
@@ -57,9 +56,48 @@ fn element_score(q: [DVec2; 4], size: f64) -> f64 {
         * ((q[2] - q[0]).perp_dot(q[3] - q[1]))
             .abs()
             .max(f64::MIN_POSITIVE);
-    let off = (area.sqrt() / size).log2().abs();
+    // the penalty starts where the size is more than twice off (the
+    // element's area more than four times off the square of the size):
+    // the logarithm only past that
+    let ratio = area / (size * size);
+    if (0.25..=4.0).contains(&ratio) {
+        return corners;
+    }
+    let off = (0.5 * ratio.log2()).abs();
     corners + 45.0 * (off - 1.0).max(0.0)
 }
+
+/// The largest distance of a corner of `q` from 90 degrees. The scoring
+/// is the closer's hot loop: for a convex element the corner furthest
+/// from a right angle is the one with the largest |cos| / sin, so one
+/// arctangent serves all four corners.
+fn worst_corner_off_right(q: [DVec2; 4]) -> f64 {
+    let mut worst_ratio: f64 = 0.0;
+    let mut reflex: Option<f64> = None;
+    for i in 0..4 {
+        let a = q[(i + 1) % 4] - q[i];
+        let b = q[(i + 3) % 4] - q[i];
+        let sine = a.perp_dot(b);
+        if sine <= 0.0 {
+            // a corner of 180 degrees or more is at least 90 off, more
+            // than any convex corner: these alone are measured
+            let off = interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees() - 90.0;
+            reflex = Some(reflex.map_or(off, |r| r.max(off)));
+        } else {
+            worst_ratio = worst_ratio.max(a.dot(b).abs() / sine);
+        }
+    }
+    match reflex {
+        Some(off) => off,
+        None => worst_ratio.atan().to_degrees(),
+    }
+}
+
+/// The finest step of the compass search, in loop edges: coarse while
+/// the ways are compared, fine when the chosen way's nodes are placed
+/// again together at the end.
+const SEARCH_STEP: f64 = 2e-2;
+const FINAL_STEP: f64 = 1e-3;
 
 /// The least score of an element that is not convex.
 const NOT_CONVEX: f64 = 1e6;
@@ -72,21 +110,39 @@ fn worst(quads: &[[usize; 4]], pt: &dyn Fn(usize) -> DVec2, size: f64) -> f64 {
 }
 
 /// Moves the `free` points (indices into `pts`) by a compass search that
-/// lowers the worst score of `quads`; returns the score reached.
-fn place(pts: &mut [DVec2], free: &[usize], quads: &[[usize; 4]], size: f64) -> f64 {
-    let mut best = worst(quads, &|i| pts[i], size);
+/// lowers the worst score of `quads`, down to steps of `finest` times
+/// `size`; returns the score reached. Each element's score is kept, and a
+/// trial move scores again only the elements round the moved point.
+fn place(pts: &mut [DVec2], free: &[usize], quads: &[[usize; 4]], size: f64, finest: f64) -> f64 {
+    let score_of = |pts: &[DVec2], q: &[usize; 4]| element_score(q.map(|i| pts[i]), size);
+    let mut scores: Vec<f64> = quads.iter().map(|q| score_of(pts, q)).collect();
+    let mut best = scores.iter().copied().fold(0.0, f64::max);
+    let round: Vec<Vec<usize>> = free
+        .iter()
+        .map(|f| (0..quads.len()).filter(|&k| quads[k].contains(f)).collect())
+        .collect();
     let mut step = 0.25 * size;
     let dirs = [DVec2::X, DVec2::NEG_X, DVec2::Y, DVec2::NEG_Y];
-    while step > 1e-3 * size && !free.is_empty() {
+    let mut trial = Vec::new();
+    while step > finest * size && !free.is_empty() {
         let mut moved = false;
-        for &f in free {
+        for (&f, round) in free.iter().zip(&round) {
             for d in dirs {
                 let old = pts[f];
                 pts[f] = old + d * step;
-                let s = worst(quads, &|i| pts[i], size);
+                trial.clear();
+                trial.extend(round.iter().map(|&k| score_of(pts, &quads[k])));
+                let s = (0..quads.len())
+                    .filter(|k| !round.contains(k))
+                    .map(|k| scores[k])
+                    .chain(trial.iter().copied())
+                    .fold(0.0, f64::max);
                 if s < best - 1e-9 {
                     best = s;
                     moved = true;
+                    for (&k, &t) in round.iter().zip(&trial) {
+                        scores[k] = t;
+                    }
                 } else {
                     pts[f] = old;
                 }
@@ -264,7 +320,7 @@ impl Search {
                 [at(0), at(1), at(2), h]
             })
             .collect();
-        let score = place(&mut self.pts, &[h], &quads, self.size);
+        let score = place(&mut self.pts, &[h], &quads, self.size, SEARCH_STEP);
         Closed {
             quads,
             new_points: vec![],
@@ -286,7 +342,7 @@ impl Search {
             .map(|k| [poly[k], poly[(k + 1) % 4], inner[(k + 1) % 4], inner[k]])
             .collect();
         quads.push([inner[0], inner[1], inner[2], inner[3]]);
-        let score = place(&mut self.pts, &inner, &quads, self.size);
+        let score = place(&mut self.pts, &inner, &quads, self.size, SEARCH_STEP);
         Closed {
             quads,
             new_points: vec![],
@@ -335,7 +391,7 @@ pub fn close_loop(points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
     }
     let mut pts: Vec<DVec2> = points.iter().copied().chain(new_points).collect();
     let free: Vec<usize> = (n..pts.len()).collect();
-    best.score = place(&mut pts, &free, &best.quads, size);
+    best.score = place(&mut pts, &free, &best.quads, size, FINAL_STEP);
     best.new_points = pts[n..].to_vec();
     Some(best)
 }
