@@ -4,7 +4,7 @@
 //! (Eq. 5 and 6). Where no rule applies, a small loop is closed whole by
 //! the ways of the KB's `closing_way/2` (closing.rs).
 
-mod closing;
+pub mod closing;
 
 use glam::DVec2;
 
@@ -147,6 +147,7 @@ pub fn try_close_loop(
 pub fn try_close_stuck_loop(
     pm: &mut PartialMesh,
     kb: &mut KnowledgeBase,
+    memo: &mut closing::Memo,
     l: u32,
     strict: bool,
 ) -> Result<bool, KbError> {
@@ -173,7 +174,7 @@ pub fn try_close_stuck_loop(
         }
     }
     let p: Vec<DVec2> = ids.iter().map(|&i| pm.mesh.nodes[i as usize]).collect();
-    let Some(closed) = closing::close_loop(&p, &ways) else {
+    let Some(closed) = memo.close_loop(&p, &ways) else {
         return Ok(false);
     };
     let pt = |i: usize| {

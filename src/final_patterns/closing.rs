@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 
 /// The ways a loop may be closed (the KB's `closing_way/2` answers).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct Ways {
     /// A four-segment loop as one element.
     pub quad: bool,
@@ -233,6 +233,13 @@ impl Search {
                 },
             );
         }
+        // no other way can score below a loop's sharpest corner
+        if best
+            .as_ref()
+            .is_some_and(|b| b.score <= self.least_score(poly))
+        {
+            return best;
+        }
         if n == 4 && ways.inset {
             keep(&mut best, self.inset(poly));
         }
@@ -279,8 +286,11 @@ impl Search {
     }
 
     /// The split into loops `left` and `right`, or None where either
-    /// cannot be closed or `left` alone scores `beat` or worse.
+    /// cannot be closed or either alone scores `beat` or worse.
     fn both(&mut self, left: &[usize], right: &[usize], how: String, beat: f64) -> Option<Closed> {
+        if self.least_score(left) >= beat || self.least_score(right) >= beat {
+            return None;
+        }
         let l = self.close(left)?;
         if l.score >= beat {
             return None;
@@ -292,6 +302,26 @@ impl Search {
             text: format!("{how}, {}, {})", l.text, r.text),
             score: l.score.max(r.score),
         })
+    }
+
+    /// A score no closing of `poly` can beat: an element at a corner of
+    /// the loop sharper than 90 degrees has a corner at least that sharp
+    /// (the elements there share the loop's corner). Computed as
+    /// `element_score` measures corners, so a four-segment loop whose
+    /// quad's worst corner is the sharp one scores exactly this.
+    fn least_score(&self, poly: &[usize]) -> f64 {
+        let n = poly.len();
+        let mut worst_ratio: f64 = 0.0;
+        for i in 0..n {
+            let here = self.pts[poly[i]];
+            let a = self.pts[poly[(i + 1) % n]] - here;
+            let b = self.pts[poly[(i + n - 1) % n]] - here;
+            let (sine, cosine) = (a.perp_dot(b), a.dot(b));
+            if sine > 0.0 && cosine > 0.0 {
+                worst_ratio = worst_ratio.max(cosine / sine);
+            }
+        }
+        worst_ratio.atan().to_degrees()
     }
 
     /// The middle node of a path between points `a` and `b`.
@@ -349,6 +379,31 @@ impl Search {
             text: "inset".into(),
             score,
         }
+    }
+}
+
+/// The closings searched so far in a run, by the loop's points (exactly)
+/// and the ways allowed: the search is a function of those alone.
+#[derive(Default)]
+pub struct Memo {
+    done: HashMap<(Vec<[u64; 2]>, Vec<Ways>), Option<Closed>>,
+}
+
+impl Memo {
+    /// `close_loop`, answered from the memo where the same loop was
+    /// searched before.
+    pub fn close_loop(&mut self, points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
+        let key = (
+            points
+                .iter()
+                .map(|p| [p.x.to_bits(), p.y.to_bits()])
+                .collect(),
+            ways.to_vec(),
+        );
+        self.done
+            .entry(key)
+            .or_insert_with(|| close_loop(points, ways))
+            .clone()
     }
 }
 

@@ -111,6 +111,9 @@ pub struct Mesher<'k> {
     set: Settings,
     fallback_passes: usize,
     started: bool,
+    /// Stuck loops already searched for a whole closing (the same loop
+    /// is often stuck again after a refused split).
+    closings: final_patterns::closing::Memo,
 }
 
 impl<'k> Mesher<'k> {
@@ -148,6 +151,7 @@ impl<'k> Mesher<'k> {
             set,
             fallback_passes: 0,
             started: false,
+            closings: Default::default(),
         }
     }
 
@@ -597,6 +601,7 @@ impl<'k> Mesher<'k> {
         Ok(final_patterns::try_close_stuck_loop(
             &mut self.pm,
             self.kb,
+            &mut self.closings,
             l,
             strict,
         )?)
