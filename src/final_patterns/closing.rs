@@ -511,6 +511,38 @@ mod tests {
     }
 
     #[test]
+    fn no_closing_beats_the_loops_sharpest_corner() {
+        // an eight-segment loop with a 30-degree corner at the origin:
+        // whatever way wins, an element there has a corner of 30 or less
+        let t = 30f64.to_radians();
+        let p = [
+            DVec2::ZERO,
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(3.0, 0.0),
+            DVec2::new(3.0, 1.0),
+            DVec2::new(2.0, 1.5),
+            DVec2::new(1.5, 1.5),
+            DVec2::new(t.cos(), t.sin()) * 1.2,
+        ];
+        let search = Search {
+            pts: p.to_vec(),
+            ways: ALL.to_vec(),
+            size: 1.0,
+            middles: HashMap::new(),
+            memo: HashMap::new(),
+        };
+        let least = search.least_score(&(0..8).collect::<Vec<_>>());
+        assert!((least - 60.0).abs() < 1e-9, "least {least}");
+        let c = close_loop(&p, ALL).expect("closed");
+        assert!(c.score >= least - 1e-9, "{} scores {}", c.text, c.score);
+        // the run's memo answers as the search does
+        let mut memo = Memo::default();
+        let again = memo.close_loop(&p, ALL).expect("closed");
+        assert_eq!((again.text, again.score), (c.text, c.score));
+    }
+
+    #[test]
     fn an_odd_loop_is_not_closed() {
         let p = [DVec2::ZERO, DVec2::X, DVec2::ONE];
         assert!(close_loop(&p, ALL).is_none());
