@@ -104,8 +104,9 @@ pub fn chord_split(pm: &mut PartialMesh, l: u32, clearance: f64, strict: bool) -
     // the best chord that is clear: sort first, test clearance after
     cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     let mut best = None;
+    let near = FrontNear::round(pm, &p, &cands, clearance);
     for &(score, i, j, k, h) in &cands {
-        if chord_clear(pm, p[i], p[j], ids[i], ids[j], h * clearance) {
+        if near.chord_clear(p[i], p[j], ids[i], ids[j], h * clearance) {
             best = Some((score, i, j, k));
             break;
         }
@@ -152,37 +153,69 @@ pub fn chord_split(pm: &mut PartialMesh, l: u32, clearance: f64, strict: bool) -
     true
 }
 
-/// True iff the chord crosses no front edge and passes no front node
-/// closer than a fifth of the local size.
-fn chord_clear(pm: &mut PartialMesh, a: DVec2, b: DVec2, na: u32, nb: u32, h: f64) -> bool {
-    let mut near = std::mem::take(&mut pm.scratch);
-    let pad = DVec2::splat(h * 0.25);
-    pm.front
-        .edges_near(a.min(b) - pad, a.max(b) + pad, &mut near);
-    let mut ok = true;
-    for &e in &near {
-        let (x, y) = (pm.front.node(e), pm.front.node(pm.front.next(e)));
-        let (px, py) = (pm.mesh.nodes[x as usize], pm.mesh.nodes[y as usize]);
-        if x != na && x != nb && crate::geometry::point_segment_distance(px, a, b) < 0.2 * h {
-            ok = false;
-            break;
-        }
-        let rel = segments_intersect(a, b, px, py);
-        if x == na || x == nb || y == na || y == nb {
-            // sharing an end is fine; lying along the chord is not
-            if rel == SegmentRelation::Overlap || (x == na && y == nb) || (x == nb && y == na) {
-                ok = false;
-                break;
-            }
-            continue;
-        }
-        if rel != SegmentRelation::Disjoint {
-            ok = false;
-            break;
-        }
+/// The front edges round a loop, gathered once for all its candidate
+/// chords (a stuck loop of a few hundred nodes has thousands of them):
+/// each edge's end nodes and their places.
+struct FrontNear {
+    edges: Vec<(u32, u32, DVec2, DVec2)>,
+}
+
+impl FrontNear {
+    /// The front edges within reach of any of `cands` (chords between
+    /// points of `p`): the grid's cells over the loop's box, padded as
+    /// each chord's own query is.
+    fn round(
+        pm: &mut PartialMesh,
+        p: &[DVec2],
+        cands: &[(f64, usize, usize, usize, f64)],
+        clearance: f64,
+    ) -> FrontNear {
+        let Some(h) = cands.iter().map(|c| c.4).reduce(f64::max) else {
+            return FrontNear { edges: vec![] };
+        };
+        let pad = DVec2::splat(h * clearance * 0.25);
+        let lo = p.iter().copied().reduce(DVec2::min).unwrap_or_default() - pad;
+        let hi = p.iter().copied().reduce(DVec2::max).unwrap_or_default() + pad;
+        let mut near = std::mem::take(&mut pm.scratch);
+        pm.front.edges_near(lo, hi, &mut near);
+        let edges = near
+            .iter()
+            .map(|&e| {
+                let (x, y) = (pm.front.node(e), pm.front.node(pm.front.next(e)));
+                (x, y, pm.mesh.nodes[x as usize], pm.mesh.nodes[y as usize])
+            })
+            .collect();
+        pm.scratch = near;
+        FrontNear { edges }
     }
-    pm.scratch = near;
-    ok
+
+    /// True iff the chord crosses no front edge and passes no front node
+    /// closer than a fifth of the local size. Edges whose box misses the
+    /// chord's padded box can do neither.
+    fn chord_clear(&self, a: DVec2, b: DVec2, na: u32, nb: u32, h: f64) -> bool {
+        let pad = DVec2::splat(h * 0.25);
+        let (lo, hi) = (a.min(b) - pad, a.max(b) + pad);
+        for &(x, y, px, py) in &self.edges {
+            if px.max(py).cmplt(lo).any() || px.min(py).cmpgt(hi).any() {
+                continue;
+            }
+            if x != na && x != nb && crate::geometry::point_segment_distance(px, a, b) < 0.2 * h {
+                return false;
+            }
+            let rel = segments_intersect(a, b, px, py);
+            if x == na || x == nb || y == na || y == nb {
+                // sharing an end is fine; lying along the chord is not
+                if rel == SegmentRelation::Overlap || (x == na && y == nb) || (x == nb && y == na) {
+                    return false;
+                }
+                continue;
+            }
+            if rel != SegmentRelation::Disjoint {
+                return false;
+            }
+        }
+        true
+    }
 }
 
 /// How a chord leaving `v` (whose next loop node is `next`) in direction
