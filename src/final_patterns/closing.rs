@@ -100,7 +100,7 @@ const SEARCH_STEP: f64 = 2e-2;
 const FINAL_STEP: f64 = 1e-3;
 
 /// The least score of an element that is not convex.
-const NOT_CONVEX: f64 = 1e6;
+pub const NOT_CONVEX: f64 = 1e6;
 
 fn worst(quads: &[[usize; 4]], pt: &dyn Fn(usize) -> DVec2, size: f64) -> f64 {
     quads
@@ -194,6 +194,9 @@ struct Search {
     /// is the same loop.
     middles: HashMap<(usize, usize), usize>,
     memo: HashMap<Vec<usize>, Option<Closed>>,
+    /// Splits scoring this or worse are not followed (`NOT_CONVEX`: no
+    /// cap).
+    cap: f64,
 }
 
 impl Search {
@@ -219,7 +222,8 @@ impl Search {
         };
         // what a split must beat: its first loop's score alone can rule it
         // out before the second is closed (a split's score is the larger)
-        let beat = |best: &Option<Closed>| best.as_ref().map_or(NOT_CONVEX, |b| b.score);
+        let cap = self.cap;
+        let beat = |best: &Option<Closed>| best.as_ref().map_or(cap, |b| b.score.min(cap));
         if n == 4 && ways.quad {
             let q = [poly[0], poly[1], poly[2], poly[3]];
             let score = worst(&[q], &|i| self.pts[i], self.size);
@@ -382,27 +386,28 @@ impl Search {
     }
 }
 
-/// The closings searched so far in a run, by the loop's points (exactly)
-/// and the ways allowed: the search is a function of those alone.
+/// The closings searched so far in a run, by the loop's points (exactly),
+/// the ways allowed and the cap: the search is a function of those alone.
 #[derive(Default)]
 pub struct Memo {
-    done: HashMap<(Vec<[u64; 2]>, Vec<Ways>), Option<Closed>>,
+    done: HashMap<(Vec<[u64; 2]>, Vec<Ways>, u64), Option<Closed>>,
 }
 
 impl Memo {
     /// `close_loop`, answered from the memo where the same loop was
     /// searched before.
-    pub fn close_loop(&mut self, points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
+    pub fn close_loop(&mut self, points: &[DVec2], ways: &[Ways], cap: f64) -> Option<Closed> {
         let key = (
             points
                 .iter()
                 .map(|p| [p.x.to_bits(), p.y.to_bits()])
                 .collect(),
             ways.to_vec(),
+            cap.to_bits(),
         );
         self.done
             .entry(key)
-            .or_insert_with(|| close_loop(points, ways))
+            .or_insert_with(|| close_loop(points, ways, cap))
             .clone()
     }
 }
@@ -412,7 +417,11 @@ impl Memo {
 /// gives convex elements. `ways[k]` are the ways for a loop of `k`
 /// segments. The new nodes of the chosen way are placed
 /// again, all together, at the end.
-pub fn close_loop(points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
+/// A way that splits the loop is followed only while its parts score
+/// below `cap` (`NOT_CONVEX`: always): a caller that takes only elements
+/// with every corner within `cap` degrees of a right angle (less the gain
+/// of the last placement) loses nothing by it, and the search ends sooner.
+pub fn close_loop(points: &[DVec2], ways: &[Ways], cap: f64) -> Option<Closed> {
     let n = points.len();
     if n < 4 || n % 2 == 1 {
         return None;
@@ -427,6 +436,7 @@ pub fn close_loop(points: &[DVec2], ways: &[Ways]) -> Option<Closed> {
         size,
         middles: HashMap::new(),
         memo: HashMap::new(),
+        cap,
     };
     let loop_: Vec<usize> = (0..n).collect();
     let mut best = search.close(&loop_)?;
@@ -483,7 +493,7 @@ mod tests {
 
     #[test]
     fn a_two_by_three_block_closes_as_its_grid() {
-        let c = close_loop(&rect(3, 2), ALL).expect("closed");
+        let c = close_loop(&rect(3, 2), ALL, NOT_CONVEX).expect("closed");
         assert_eq!(c.quads.len(), 6, "{}", c.text);
         assert!(c.score < 1.0, "score {} by {}", c.score, c.text);
     }
@@ -497,7 +507,7 @@ mod tests {
             DVec2::new(2.0, 0.0),
             DVec2::new(1.0, 1.6),
         ];
-        let c = close_loop(&p, ALL).expect("closed");
+        let c = close_loop(&p, ALL, NOT_CONVEX).expect("closed");
         assert_eq!(c.text, "inset");
         assert_eq!(c.quads.len(), 5);
         // convex (the triangle's corners split in two cannot all be in
@@ -507,7 +517,7 @@ mod tests {
             inset: false,
             ..EVERY
         }; 5];
-        assert!(close_loop(&p, &without).is_none());
+        assert!(close_loop(&p, &without, NOT_CONVEX).is_none());
     }
 
     #[test]
@@ -531,21 +541,33 @@ mod tests {
             size: 1.0,
             middles: HashMap::new(),
             memo: HashMap::new(),
+            cap: NOT_CONVEX,
         };
         let least = search.least_score(&(0..8).collect::<Vec<_>>());
         assert!((least - 60.0).abs() < 1e-9, "least {least}");
-        let c = close_loop(&p, ALL).expect("closed");
+        let c = close_loop(&p, ALL, NOT_CONVEX).expect("closed");
         assert!(c.score >= least - 1e-9, "{} scores {}", c.text, c.score);
+        // uncapped, a split wins here; under a cap of 50 no split is
+        // followed: one of its parts has the 30-degree corner
+        assert!(c.text.starts_with("path"), "{}", c.text);
+        let capped = close_loop(&p, ALL, 50.0);
+        assert!(
+            capped
+                .as_ref()
+                .is_none_or(|c| !c.text.starts_with("chord") && !c.text.starts_with("path")),
+            "{:?}",
+            capped.map(|c| c.text)
+        );
         // the run's memo answers as the search does
         let mut memo = Memo::default();
-        let again = memo.close_loop(&p, ALL).expect("closed");
+        let again = memo.close_loop(&p, ALL, NOT_CONVEX).expect("closed");
         assert_eq!((again.text, again.score), (c.text, c.score));
     }
 
     #[test]
     fn an_odd_loop_is_not_closed() {
         let p = [DVec2::ZERO, DVec2::X, DVec2::ONE];
-        assert!(close_loop(&p, ALL).is_none());
+        assert!(close_loop(&p, ALL, NOT_CONVEX).is_none());
     }
 
     #[test]
