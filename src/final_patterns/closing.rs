@@ -390,8 +390,11 @@ impl Search {
 /// the ways allowed and the cap: the search is a function of those alone.
 #[derive(Default)]
 pub struct Memo {
-    done: HashMap<(Vec<[u64; 2]>, Vec<Ways>, u64), Option<Closed>>,
+    done: HashMap<MemoKey, Option<Closed>>,
 }
+
+/// A loop's points (their bits), the ways allowed and the cap (its bits).
+type MemoKey = (Vec<[u64; 2]>, Vec<Ways>, u64);
 
 impl Memo {
     /// `close_loop`, answered from the memo where the same loop was
