@@ -75,22 +75,30 @@ fn worst_corner_off_right(q: [DVec2; 4]) -> f64 {
     let mut worst_ratio: f64 = 0.0;
     let mut reflex: Option<f64> = None;
     for i in 0..4 {
-        let a = q[(i + 1) % 4] - q[i];
-        let b = q[(i + 3) % 4] - q[i];
-        let sine = a.perp_dot(b);
-        if sine <= 0.0 {
-            // a corner of 180 degrees or more is at least 90 off, more
-            // than any convex corner: these alone are measured
-            let off = interior_angle(q[(i + 3) % 4], q[i], q[(i + 1) % 4]).to_degrees() - 90.0;
-            reflex = Some(reflex.map_or(off, |r| r.max(off)));
-        } else {
-            worst_ratio = worst_ratio.max(a.dot(b).abs() / sine);
+        let (prev, here, next) = (q[(i + 3) % 4], q[i], q[(i + 1) % 4]);
+        match off_right_ratio(prev, here, next) {
+            Some(ratio) => worst_ratio = worst_ratio.max(ratio),
+            None => {
+                // a corner of 180 degrees or more is at least 90 off,
+                // more than any convex corner: these alone are measured
+                let off = interior_angle(prev, here, next).to_degrees() - 90.0;
+                reflex = Some(reflex.map_or(off, |r| r.max(off)));
+            }
         }
     }
     match reflex {
         Some(off) => off,
         None => worst_ratio.atan().to_degrees(),
     }
+}
+
+/// |cos| / sin of the corner at `here` (counter-clockwise from `next`
+/// round to `prev`), the tangent of its distance from 90 degrees; None
+/// where the corner is 180 degrees or more.
+fn off_right_ratio(prev: DVec2, here: DVec2, next: DVec2) -> Option<f64> {
+    let (a, b) = (next - here, prev - here);
+    let sine = a.perp_dot(b);
+    (sine > 0.0).then(|| a.dot(b).abs() / sine)
 }
 
 /// The finest step of the compass search, in loop edges: coarse while
@@ -310,19 +318,24 @@ impl Search {
 
     /// A score no closing of `poly` can beat: an element at a corner of
     /// the loop sharper than 90 degrees has a corner at least that sharp
-    /// (the elements there share the loop's corner). Computed as
-    /// `element_score` measures corners, so a four-segment loop whose
-    /// quad's worst corner is the sharp one scores exactly this.
+    /// (the elements there share the loop's corner). Measured as
+    /// `element_score` measures corners (`off_right_ratio`), so a
+    /// four-segment loop whose quad's worst corner is the sharp one scores
+    /// exactly this.
     fn least_score(&self, poly: &[usize]) -> f64 {
         let n = poly.len();
         let mut worst_ratio: f64 = 0.0;
         for i in 0..n {
-            let here = self.pts[poly[i]];
-            let a = self.pts[poly[(i + 1) % n]] - here;
-            let b = self.pts[poly[(i + n - 1) % n]] - here;
-            let (sine, cosine) = (a.perp_dot(b), a.dot(b));
-            if sine > 0.0 && cosine > 0.0 {
-                worst_ratio = worst_ratio.max(cosine / sine);
+            let (prev, here, next) = (
+                self.pts[poly[(i + n - 1) % n]],
+                self.pts[poly[i]],
+                self.pts[poly[(i + 1) % n]],
+            );
+            // only the corners sharper than 90 degrees bind
+            if (next - here).dot(prev - here) > 0.0 {
+                if let Some(ratio) = off_right_ratio(prev, here, next) {
+                    worst_ratio = worst_ratio.max(ratio);
+                }
             }
         }
         worst_ratio.atan().to_degrees()
