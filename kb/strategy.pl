@@ -110,6 +110,11 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 % closing_loop_segments: where no rule applies, a loop of at most this
 %   many segments is closed whole by the ways of closing_way/2
 %   (patterns.pl); 0 leaves every loop to the fallbacks.
+% closing_strict_margin: before a chord split, a stuck loop is closed
+%   whole only with every corner in the window; that search follows a way
+%   that splits the loop only while its parts score (their worst corner's
+%   distance from 90 deg) within the window plus this many deg (the new
+%   nodes are placed again at the end, which can bring a way back in).
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -144,3 +149,4 @@ bound(block_size, 4).
 bound(block_arc_step, 45).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
+bound(closing_strict_margin, 10).

@@ -175,10 +175,11 @@ pub fn try_close_stuck_loop(
     }
     let p: Vec<DVec2> = ids.iter().map(|&i| pm.mesh.nodes[i as usize]).collect();
     // strict: a split whose part has a corner further from a right angle
-    // than the window allows is not followed (with a margin for the last
-    // placement of the new nodes)
+    // than the window allows is not followed (with the KB's margin for
+    // the last placement of the new nodes)
     let cap = if strict {
-        (90.0 - pm.bounds.lower_corner).max(pm.bounds.upper_corner - 90.0) + STRICT_CAP_MARGIN
+        (90.0 - pm.bounds.lower_corner).max(pm.bounds.upper_corner - 90.0)
+            + pm.host.closing_strict_margin
     } else {
         closing::NOT_CONVEX
     };
@@ -255,11 +256,6 @@ pub fn try_close_stuck_loop(
     );
     Ok(true)
 }
-
-/// Degrees past the corner window a split's part may score in the strict
-/// search (the new nodes are placed again together at the end, which can
-/// bring a way back into the window).
-const STRICT_CAP_MARGIN: f64 = 10.0;
 
 /// How far (a factor) a strictly closed loop's element may be from the
 /// size of the loop's edges it takes: its neighbours across them are

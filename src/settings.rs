@@ -233,6 +233,10 @@ pub struct HostBounds {
     /// this many segments is closed whole by the ways of `closing_way/2`
     /// (see final_patterns/closing.rs).
     pub closing_loop_segments: f64,
+    /// `closing_strict_margin`: the strict closing of a stuck loop follows
+    /// a split only while its parts score within the corner window plus
+    /// this many degrees (see final_patterns.rs).
+    pub closing_strict_margin: f64,
 }
 
 impl Default for HostBounds {
@@ -240,7 +244,7 @@ impl Default for HostBounds {
     fn default() -> HostBounds {
         HostBounds::new([
             4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0, 2.0, 12.0,
+            45.0, 2.0, 12.0, 10.0,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -248,7 +252,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 18] = [
+    pub const NAMES: [&'static str; 19] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -267,13 +271,14 @@ impl HostBounds {
         "block_arc_step",
         "fallback_reopen_rings",
         "closing_loop_segments",
+        "closing_strict_margin",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 18]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments] =
+    pub fn new(v: [f64; 19]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -294,6 +299,7 @@ impl HostBounds {
             (1.0, 180.0),
             (0.0, 100.0),
             (0.0, 41.0),
+            (0.0, 90.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -323,6 +329,7 @@ impl HostBounds {
             block_arc_step,
             fallback_reopen_rings,
             closing_loop_segments,
+            closing_strict_margin,
         })
     }
 }
@@ -360,7 +367,7 @@ mod tests {
     fn a_negative_reach_is_refused() {
         let mut v = [
             4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0, 2.0, 12.0,
+            45.0, 2.0, 12.0, 10.0,
         ];
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();
