@@ -13,7 +13,14 @@
 //!   loop of four or six nodes, are replaced by one element or two (what
 //!   a ring closing a small loop leaves is such a patch: once smoothing
 //!   made the loop good, its small middle element and the slanted ones
-//!   round it give the worst corners and size jumps of the mesh).
+//!   round it give the worst corners and size jumps of the mesh);
+//! - split: two elements sharing an edge make a hexagon; it is split into
+//!   three round a new node in its middle. A node of the hexagon that has
+//!   one element too few gets one more: a lone element at a boundary node
+//!   bent more than the window allows (on a tight arc, where a row ended)
+//!   keeps that corner whatever the smoothing does, and no flip or
+//!   collapse gives the node a second element without taking one from the
+//!   next node along the boundary.
 //!
 //! Each element with a corner outside the window, worst first, is tried
 //! with every flip of its edges and every collapse; the region round each
@@ -21,7 +28,10 @@
 //! region's worst corner clearly better. Then each element past the shape
 //! and size bounds (built in: aspect ratio or taper above 10, size above
 //! twice a neighbour's) gets the change that brings its region furthest within
-//! them, if no corner of the region gets worse.
+//! them, if no corner of the region gets worse. Last, each element still
+//! with a corner outside the window gets the split that makes its
+//! region's worst corner clearly better without taking the region past
+//! the shape and size bounds.
 
 use glam::DVec2;
 
@@ -41,6 +51,8 @@ pub struct CleanupStats {
     pub flips: usize,
     /// Collapses kept.
     pub collapses: usize,
+    /// Hexagons split into three (an element more each).
+    pub splits: usize,
 }
 
 /// How many of an element's changes, best first as they are made, are
@@ -110,6 +122,7 @@ fn clean_up_on(
         &mut touched,
     );
     shape_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
+    split_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
     // the collapsed elements' slots go
     let Working { mesh, alive, .. } = w;
     keep_alive(&mut mesh.quads, &alive);
@@ -229,6 +242,54 @@ fn shape_round(
     }
 }
 
+/// The splits of the hexagons of an element and its neighbours.
+const SPLITS: [Op; 4] = [Op::Split(0), Op::Split(1), Op::Split(2), Op::Split(3)];
+
+/// One round over the elements of `look_at` (and the elements the round
+/// adds) with a corner still outside the window, worst first: each gets
+/// the split that makes its region's worst corner clearly better, if the
+/// region stays within the shape and size bounds (or gets no further
+/// past them).
+fn split_round(
+    w: &mut Working,
+    helper: &mut Option<Working>,
+    look_at: &[u32],
+    stats: &mut CleanupStats,
+    touched: &mut Vec<u32>,
+) {
+    let mut bad: Vec<(f64, u32)> = look_at
+        .iter()
+        .copied()
+        .filter(|&q| w.alive[q as usize])
+        .map(|q| (w.worst_of(&[q]).0, q))
+        .filter(|&(b, _)| b > 0.0)
+        .collect();
+    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for (_, q) in bad {
+        if !w.alive[q as usize] || w.worst_of(&[q]).0 <= 0.0 {
+            continue;
+        }
+        let candidates: Vec<Change> = SPLITS.iter().flat_map(|&op| changes(w, q, op)).collect();
+        let done = best_change(
+            w,
+            helper,
+            candidates,
+            |w, changed| {
+                let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
+                sine_worst_around_every_corner(w.mesh, &pairs)
+            },
+            |w, region| (w.worst_of(region), w.shape_excess(region)),
+            |(before, shape_before): (Worst, f64), (after, shape_after): (Worst, f64)| {
+                (clearly_better(after, before) && shape_after <= shape_before.max(1.0))
+                    .then_some(after)
+            },
+        );
+        if let Some(done) = done {
+            record(w, &done, stats, touched);
+        }
+    }
+}
+
 /// Counts a change made and notes the nodes round it; returns them.
 fn record(
     w: &Working,
@@ -241,6 +302,7 @@ fn record(
         Change::Collapse { .. } => stats.collapses += 1,
         // the elements that go count as collapsed
         Change::Merge { gone, .. } => stats.collapses += gone.len(),
+        Change::Add { .. } => stats.splits += 1,
     }
     let nodes = done.nodes(w);
     touched.extend(&nodes);
@@ -308,13 +370,20 @@ fn judge_change<M, K>(
     match c {
         Change::Collapse { q, .. } => after_region.retain(|r| r != q),
         Change::Merge { gone, .. } => after_region.retain(|r| !gone.contains(r)),
+        Change::Add { first, added, .. } => {
+            after_region.extend(*first..*first + added.len() as u32)
+        }
         Change::Flip { .. } => {}
     }
     let saved = w.snapshot(&region);
     let before = measure(w, &region);
     c.apply(w);
     let nodes = c.nodes(w);
-    w.smooth_locally(&nodes);
+    match c {
+        // new nodes start far from where they go
+        Change::Add { .. } => w.smooth_sweeps(&nodes, 6),
+        _ => w.smooth_locally(&nodes),
+    }
     let good = accept(before, measure(w, &after_region)).map(|k| (k, w.snapshot(&after_region)));
     c.revert(w);
     w.restore(&saved);
@@ -417,6 +486,54 @@ mod tests {
             });
         }
         m
+    }
+
+    /// A hexagon of fixed nodes, corners of 150 degrees at nodes 1 and 5
+    /// and of 105 at the others, split into two elements along its
+    /// diagonal 2-5: node 1 has one element and a corner of 150 there. A
+    /// flip gives it a second element but takes one from node 5 (150
+    /// again there); only a split into three round a new middle node
+    /// gives node 1 an element more and takes none from node 5.
+    fn hexagon_with_a_lone_bent_corner() -> Mesh {
+        let mut m = Mesh::default();
+        for (x, y) in [
+            (0.0, 0.0),
+            (0.783953, 0.0),
+            (1.559733, 0.447894),
+            (1.245008, 1.622507),
+            (0.028906, 1.622507),
+            (-0.202903, 0.757225),
+        ] {
+            m.add_node(DVec2::new(x, y), NodeKind::Boundary);
+        }
+        m.quads = vec![[0, 1, 2, 5], [2, 3, 4, 5]];
+        for k in 0..6u32 {
+            m.boundary.push(BoundaryEdge {
+                a: k,
+                b: (k + 1) % 6,
+                group: 0,
+                tag: None,
+            });
+        }
+        m
+    }
+
+    #[test]
+    fn a_lone_element_at_a_bent_boundary_node_gets_a_neighbour_by_a_split() {
+        let mut m = hexagon_with_a_lone_bent_corner();
+        let area = m.area();
+        assert!(worst_corner(&m) >= 14.9, "{}", worst_corner(&m));
+        let (stats, touched) = clean_up(&mut m, None, &ElementBounds::default());
+        assert_eq!((stats.flips, stats.collapses, stats.splits), (0, 0, 1));
+        assert!(!touched.is_empty());
+        assert_eq!((m.quads.len(), m.nodes.len()), (3, 7));
+        assert_eq!(m.kinds[6], NodeKind::Interior);
+        // nodes 1 and 5 have two elements each, the new node three
+        let at = |n: u32| m.quads.iter().filter(|q| q.contains(&n)).count();
+        assert_eq!((at(1), at(5), at(6)), (2, 2, 3));
+        assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
+        assert!((m.area() - area).abs() < 1e-9);
+        crate::report::check::check_mesh(&m, area).unwrap();
     }
 
     #[test]

@@ -564,10 +564,11 @@ fn mesh_one(
             result.stats.made_by_text()
         );
         eprintln!(
-            "{}: clean-up {} edge flips, {} element collapses",
+            "{}: clean-up {} edge flips, {} element collapses, {} hexagons split in three",
             domain.name(),
             result.stats.cleanup_flips,
-            result.stats.cleanup_collapses
+            result.stats.cleanup_collapses,
+            result.stats.cleanup_splits
         );
         if result.stats.thin_wall_edges > 0 {
             eprintln!(

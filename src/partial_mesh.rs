@@ -52,6 +52,8 @@ pub struct MeshStats {
     pub cleanup_flips: usize,
     /// Elements collapsed by the clean-up.
     pub cleanup_collapses: usize,
+    /// Hexagons split into three by the clean-up.
+    pub cleanup_splits: usize,
     /// Input edges given one segment count with the edges they face
     /// across a wall thinner than `bound(thin_wall, K)` element sizes.
     pub thin_wall_edges: usize,

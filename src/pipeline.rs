@@ -640,6 +640,7 @@ pub(crate) fn finish_mesh(
         let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref(), bounds);
         stats.cleanup_flips += cleaned.flips;
         stats.cleanup_collapses += cleaned.collapses;
+        stats.cleanup_splits += cleaned.splits;
         any_collapse |= cleaned.collapses > 0;
         if touched.is_empty() {
             break;

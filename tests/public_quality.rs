@@ -215,11 +215,23 @@ fn the_blade_examples_figures_are_measured_again() {
     let flat = readme.split_whitespace().collect::<Vec<_>>().join(" ");
     assert!(flat.contains(&sentence), "README should say: {sentence}");
     let example = std::fs::read_to_string("examples/kb/README.md").unwrap();
-    let changes = |s: &freemesh::MeshStats| match (s.cleanup_flips, s.cleanup_collapses) {
-        (0, 0) => "none".to_string(),
-        (0, c) => format!("{c} element collapse{}", if c == 1 { "" } else { "s" }),
-        (f, 0) => format!("{f} edge flip{}", if f == 1 { "" } else { "s" }),
-        (f, c) => format!("{f} edge flips, {c} element collapses"),
+    let changes = |s: &freemesh::MeshStats| {
+        let plural = |n: usize, what: &str, many: &str| {
+            (n > 0).then(|| format!("{n} {}", if n == 1 { what } else { many }))
+        };
+        let done: Vec<String> = [
+            plural(s.cleanup_flips, "edge flip", "edge flips"),
+            plural(s.cleanup_collapses, "element collapse", "element collapses"),
+            plural(s.cleanup_splits, "hexagon split in three", "hexagons split in three"),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if done.is_empty() {
+            "none".to_string()
+        } else {
+            done.join(", ")
+        }
     };
     let rows = [
         format!("| quads | {} | {} |", b.quads, a.quads),

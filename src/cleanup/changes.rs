@@ -24,9 +24,19 @@ pub enum Op {
     /// (see `Working::patches_of`): what a ring closing a small loop
     /// leaves, once smoothing made the loop good, is one element or two.
     Merge,
+    /// Split the hexagon of the element and its neighbour across edge
+    /// `k` into three round a new node in its middle (one variant of
+    /// two): where a node of the hexagon has one element too few (a
+    /// lone element at a boundary node bent more than the window
+    /// allows), the new node gives it a second.
+    Split(u8),
 }
 
 pub(crate) type Worst = (f64, f64);
+
+/// The neighbour, the new middle node's place and the two splits of a
+/// hexagon into three elements.
+pub(crate) type HexagonSplits = (u32, DVec2, [[[u32; 4]; 3]; 2]);
 
 /// The mesh with each node's elements, kept up to date through the
 /// operations; removed elements are left as holes until `finish`.
@@ -60,6 +70,45 @@ impl Working<'_> {
         self.mesh.quads[q as usize] = new;
         for &n in &new {
             self.around[n as usize].push(q);
+        }
+    }
+
+    /// Adds a free node (the next) at `p`.
+    pub(crate) fn add_node(&mut self, p: DVec2) {
+        self.mesh.nodes.push(p);
+        self.mesh.kinds.push(NodeKind::Interior);
+        self.around.push(Vec::new());
+    }
+
+    /// Takes the last node back (its elements gone first).
+    pub(crate) fn pop_node(&mut self) {
+        self.mesh.nodes.pop();
+        self.mesh.kinds.pop();
+        self.around.pop();
+    }
+
+    /// Adds an element (the next), in the block of element `like`.
+    pub(crate) fn add_quad(&mut self, nodes: [u32; 4], like: u32) {
+        let q = self.mesh.quads.len() as u32;
+        self.mesh.quads.push(nodes);
+        self.alive.push(true);
+        if !self.mesh.blocks.is_empty() {
+            let b = self.mesh.blocks[like as usize];
+            self.mesh.blocks.push(b);
+        }
+        for &n in &nodes {
+            self.around[n as usize].push(q);
+        }
+    }
+
+    /// Takes the last element back.
+    pub(crate) fn pop_quad(&mut self) {
+        let q = self.mesh.quads.len() as u32 - 1;
+        self.remove_quad(q);
+        self.mesh.quads.pop();
+        self.alive.pop();
+        if !self.mesh.blocks.is_empty() {
+            self.mesh.blocks.pop();
         }
     }
 
@@ -135,7 +184,12 @@ impl Working<'_> {
 
     /// Two sweeps of the compass search over the free ones of `nodes`.
     pub(crate) fn smooth_locally(&mut self, nodes: &[u32]) {
-        for _ in 0..2 {
+        self.smooth_sweeps(nodes, 2);
+    }
+
+    /// `sweeps` sweeps of the compass search over the free ones of `nodes`.
+    pub(crate) fn smooth_sweeps(&mut self, nodes: &[u32], sweeps: usize) {
+        for _ in 0..sweeps {
             for &n in nodes {
                 if self.mesh.kinds[n as usize] != NodeKind::Interior {
                     continue;
@@ -176,9 +230,11 @@ impl Working<'_> {
         })
     }
 
-    /// The two other splits of the hexagon of q and the element across
-    /// its edge k: (q's new nodes, the other's new nodes) each.
-    pub(crate) fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
+    /// The hexagon of q and the element across its edge k,
+    /// counter-clockwise from v round q to u, round o (the edge k is u-v),
+    /// with o and where the edge is in o; None on a constrained edge or
+    /// where the two share more than the edge.
+    fn hexagon(&self, q: u32, k: usize) -> Option<(u32, [u32; 6])> {
         let quad = self.mesh.quads[q as usize];
         let (u, v) = (quad[k], quad[(k + 1) % 4]);
         if !self.edge_free(u, v) {
@@ -186,7 +242,6 @@ impl Working<'_> {
         }
         let (o, j) = self.across(q, k)?;
         let oq = self.mesh.quads[o as usize];
-        // the hexagon, counter-clockwise, from v round q to u, round o
         let h = [
             v,
             quad[(k + 2) % 4],
@@ -198,9 +253,36 @@ impl Working<'_> {
         let mut seen = h.to_vec();
         seen.sort_unstable();
         seen.dedup();
-        if seen.len() < 6 {
-            return None;
-        }
+        (seen.len() == 6).then_some((o, h))
+    }
+
+    /// The two splits of the hexagon of q and the element across its
+    /// edge k into three elements round a new node at the hexagon's
+    /// centre: (o, the new node's place, the three elements) each, the
+    /// new node numbered next.
+    pub(crate) fn splits(&self, q: u32, k: usize) -> Option<HexagonSplits> {
+        let (o, h) = self.hexagon(q, k)?;
+        let m = self.mesh.nodes.len() as u32;
+        let centre = h
+            .iter()
+            .map(|&n| self.mesh.nodes[n as usize])
+            .fold(DVec2::ZERO, |a, p| a + p)
+            / 6.0;
+        let split = |d: usize| {
+            let i = |x: usize| h[(d + x) % 6];
+            [
+                [i(0), i(1), i(2), m],
+                [i(2), i(3), i(4), m],
+                [i(4), i(5), i(0), m],
+            ]
+        };
+        Some((o, centre, [split(0), split(1)]))
+    }
+
+    /// The two other splits of the hexagon of q and the element across
+    /// its edge k: (q's new nodes, the other's new nodes) each.
+    pub(crate) fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
+        let (o, h) = self.hexagon(q, k)?;
         let split = |d: usize| {
             let i = |x: usize| h[(d + x) % 6];
             [[i(0), i(1), i(2), i(3)], [i(3), i(4), i(5), i(0)]]
@@ -375,6 +457,16 @@ pub(crate) enum Change {
         kept: Vec<(u32, [u32; 4], [u32; 4])>,
         gone: Vec<u32>,
     },
+    /// Elements get new nodes (`changed`: element, old, new), elements
+    /// `added` are added (numbered from `first`, the next) and nodes at
+    /// `at` (numbered from the next): a split (two elements into three
+    /// round a new node).
+    Add {
+        changed: Vec<(u32, [u32; 4], [u32; 4])>,
+        added: Vec<[u32; 4]>,
+        first: u32,
+        at: Vec<DVec2>,
+    },
 }
 
 impl Change {
@@ -384,6 +476,13 @@ impl Change {
             Change::Flip { q, o, .. } => vec![*q, *o],
             Change::Collapse { changed, .. } => changed.iter().map(|c| c.0).collect(),
             Change::Merge { kept, .. } => kept.iter().map(|k| k.0).collect(),
+            Change::Add {
+                changed, added, first, ..
+            } => changed
+                .iter()
+                .map(|c| c.0)
+                .chain(*first..*first + added.len() as u32)
+                .collect(),
         }
     }
 
@@ -396,6 +495,9 @@ impl Change {
                 let mut qs = gone.clone();
                 qs.extend(kept.iter().map(|k| k.0));
                 w.region(&qs)
+            }
+            Change::Add { changed, .. } => {
+                w.region(&changed.iter().map(|c| c.0).collect::<Vec<_>>())
             }
         }
     }
@@ -425,6 +527,19 @@ impl Change {
                 }
                 for &(q, _, new) in kept {
                     w.set_quad(q, new);
+                }
+            }
+            Change::Add {
+                changed, added, at, ..
+            } => {
+                for &p in at {
+                    w.add_node(p);
+                }
+                for &(q, _, new) in changed {
+                    w.set_quad(q, new);
+                }
+                for &new in added {
+                    w.add_quad(new, changed[0].0);
                 }
             }
         }
@@ -464,6 +579,19 @@ impl Change {
                     }
                 }
             }
+            Change::Add {
+                changed, added, at, ..
+            } => {
+                for _ in added {
+                    w.pop_quad();
+                }
+                for &(q, old, _) in changed {
+                    w.set_quad(q, old);
+                }
+                for _ in at {
+                    w.pop_node();
+                }
+            }
         }
     }
 
@@ -480,6 +608,12 @@ impl Change {
                 .flat_map(|k| k.2)
                 .flat_map(|n| w.around[n as usize].iter())
                 .flat_map(|&o| w.mesh.quads[o as usize])
+                .collect(),
+            Change::Add { changed, added, .. } => changed
+                .iter()
+                .map(|c| c.2)
+                .chain(added.iter().copied())
+                .flatten()
                 .collect(),
         };
         nodes.sort_unstable();
@@ -514,6 +648,21 @@ pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
                     .map(|(o, new)| (o, w.mesh.quads[o as usize], new))
                     .collect(),
             }],
+            None => Vec::new(),
+        },
+        Op::Split(k) => match w.splits(q, k as usize) {
+            Some((o, at, splits)) => splits
+                .into_iter()
+                .map(|new| Change::Add {
+                    changed: vec![
+                        (q, w.mesh.quads[q as usize], new[0]),
+                        (o, w.mesh.quads[o as usize], new[1]),
+                    ],
+                    added: vec![new[2]],
+                    first: w.mesh.quads.len() as u32,
+                    at: vec![at],
+                })
+                .collect(),
             None => Vec::new(),
         },
         Op::Merge => {
