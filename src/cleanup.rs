@@ -461,22 +461,14 @@ mod tests {
             .fold(f64::MIN, f64::max)
     }
 
-    /// A hexagon of fixed nodes split into two elements along its diagonal
-    /// 0-3 (corners of 34 degrees), which the split 2-5 would not have
-    /// (59 to 121 degrees); the hexagon's sides are input edges.
-    fn badly_split_hexagon() -> Mesh {
+    /// A hexagon of fixed nodes (its sides input edges) split into the
+    /// two elements `quads`.
+    fn fixed_hexagon(corners: [(f64, f64); 6], quads: [[u32; 4]; 2]) -> Mesh {
         let mut m = Mesh::default();
-        for (x, y) in [
-            (0.0, 0.0),
-            (3.0, 0.0),
-            (3.6, 1.0),
-            (3.0, 2.0),
-            (0.0, 2.0),
-            (-0.6, 1.0),
-        ] {
+        for (x, y) in corners {
             m.add_node(DVec2::new(x, y), NodeKind::Boundary);
         }
-        m.quads = vec![[0, 1, 2, 3], [3, 4, 5, 0]];
+        m.quads = quads.to_vec();
         for k in 0..6u32 {
             m.boundary.push(BoundaryEdge {
                 a: k,
@@ -488,6 +480,21 @@ mod tests {
         m
     }
 
+    /// A hexagon of fixed nodes split into two elements along its diagonal
+    /// 0-3 (corners of 34 degrees), which the split 2-5 would not have
+    /// (59 to 121 degrees); the hexagon's sides are input edges.
+    fn badly_split_hexagon() -> Mesh {
+        let corners = [
+            (0.0, 0.0),
+            (3.0, 0.0),
+            (3.6, 1.0),
+            (3.0, 2.0),
+            (0.0, 2.0),
+            (-0.6, 1.0),
+        ];
+        fixed_hexagon(corners, [[0, 1, 2, 3], [3, 4, 5, 0]])
+    }
+
     /// A hexagon of fixed nodes, corners of 150 degrees at nodes 1 and 5
     /// and of 105 at the others, split into two elements along its
     /// diagonal 2-5: node 1 has one element and a corner of 150 there. A
@@ -495,27 +502,15 @@ mod tests {
     /// again there); only a split into three round a new middle node
     /// gives node 1 an element more and takes none from node 5.
     fn hexagon_with_a_lone_bent_corner() -> Mesh {
-        let mut m = Mesh::default();
-        for (x, y) in [
+        let corners = [
             (0.0, 0.0),
             (0.783953, 0.0),
             (1.559733, 0.447894),
             (1.245008, 1.622507),
             (0.028906, 1.622507),
             (-0.202903, 0.757225),
-        ] {
-            m.add_node(DVec2::new(x, y), NodeKind::Boundary);
-        }
-        m.quads = vec![[0, 1, 2, 5], [2, 3, 4, 5]];
-        for k in 0..6u32 {
-            m.boundary.push(BoundaryEdge {
-                a: k,
-                b: (k + 1) % 6,
-                group: 0,
-                tag: None,
-            });
-        }
-        m
+        ];
+        fixed_hexagon(corners, [[0, 1, 2, 5], [2, 3, 4, 5]])
     }
 
     #[test]

@@ -222,7 +222,11 @@ fn the_blade_examples_figures_are_measured_again() {
         let done: Vec<String> = [
             plural(s.cleanup_flips, "edge flip", "edge flips"),
             plural(s.cleanup_collapses, "element collapse", "element collapses"),
-            plural(s.cleanup_splits, "hexagon split in three", "hexagons split in three"),
+            plural(
+                s.cleanup_splits,
+                "hexagon split in three",
+                "hexagons split in three",
+            ),
         ]
         .into_iter()
         .flatten()

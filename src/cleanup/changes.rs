@@ -477,7 +477,10 @@ impl Change {
             Change::Collapse { changed, .. } => changed.iter().map(|c| c.0).collect(),
             Change::Merge { kept, .. } => kept.iter().map(|k| k.0).collect(),
             Change::Add {
-                changed, added, first, ..
+                changed,
+                added,
+                first,
+                ..
             } => changed
                 .iter()
                 .map(|c| c.0)
