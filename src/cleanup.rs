@@ -154,16 +154,9 @@ fn rounds(
     touched: &mut Vec<u32>,
 ) {
     for _round in 0..3 {
-        let mut bad: Vec<(f64, u32)> = look_at
-            .iter()
-            .filter(|&&q| w.alive[q as usize])
-            .map(|&q| (w.worst_of(&[q]).0, q))
-            .filter(|&(b, _)| b > 0.0)
-            .collect();
-        bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         let mut next: Vec<u32> = Vec::new();
-        for (_, q) in bad {
-            if !w.alive[q as usize] || w.worst_of(&[q]).0 <= 0.0 {
+        for q in worst_first(w, &look_at, corner_past) {
+            if !w.alive[q as usize] || corner_past(w, q) <= 0.0 {
                 continue;
             }
             let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
@@ -173,10 +166,7 @@ fn rounds(
                 w,
                 helper,
                 candidates,
-                |w, changed| {
-                    let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
-                    sine_worst_around_every_corner(w.mesh, &pairs)
-                },
+                sine_rank,
                 |w, region| w.worst_of(region),
                 |before, after| clearly_better(after, before).then_some(after),
             );
@@ -210,16 +200,9 @@ fn shape_round(
     stats: &mut CleanupStats,
     touched: &mut Vec<u32>,
 ) {
-    let mut bad: Vec<(f64, u32)> = look_at
-        .iter()
-        .copied()
-        .filter(|&q| w.alive[q as usize])
-        .map(|q| (w.shape_excess(&[q]), q))
-        .filter(|&(x, _)| x > 1.0)
-        .collect();
-    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    for (_, q) in bad {
-        if !w.alive[q as usize] || w.shape_excess(&[q]) <= 1.0 {
+    let past = |w: &Working, q: u32| w.shape_excess(&[q]) - 1.0;
+    for q in worst_first(w, look_at, past) {
+        if !w.alive[q as usize] || past(w, q) <= 0.0 {
             continue;
         }
         let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
@@ -257,16 +240,8 @@ fn split_round(
     stats: &mut CleanupStats,
     touched: &mut Vec<u32>,
 ) {
-    let mut bad: Vec<(f64, u32)> = look_at
-        .iter()
-        .copied()
-        .filter(|&q| w.alive[q as usize])
-        .map(|q| (w.worst_of(&[q]).0, q))
-        .filter(|&(b, _)| b > 0.0)
-        .collect();
-    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    for (_, q) in bad {
-        if !w.alive[q as usize] || w.worst_of(&[q]).0 <= 0.0 {
+    for q in worst_first(w, look_at, corner_past) {
+        if !w.alive[q as usize] || corner_past(w, q) <= 0.0 {
             continue;
         }
         let candidates: Vec<Change> = SPLITS.iter().flat_map(|&op| changes(w, q, op)).collect();
@@ -274,10 +249,7 @@ fn split_round(
             w,
             helper,
             candidates,
-            |w, changed| {
-                let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
-                sine_worst_around_every_corner(w.mesh, &pairs)
-            },
+            sine_rank,
             |w, region| (w.worst_of(region), w.shape_excess(region)),
             |(before, shape_before): (Worst, f64), (after, shape_after): (Worst, f64)| {
                 (clearly_better(after, before) && shape_after <= shape_before.max(1.0))
@@ -288,6 +260,32 @@ fn split_round(
             record(w, &done, stats, touched);
         }
     }
+}
+
+/// The live elements of `look_at` that `past` puts past a bound (above
+/// 0), worst first.
+fn worst_first(w: &Working, look_at: &[u32], past: impl Fn(&Working, u32) -> f64) -> Vec<u32> {
+    let mut bad: Vec<(f64, u32)> = look_at
+        .iter()
+        .copied()
+        .filter(|&q| w.alive[q as usize])
+        .map(|q| (past(w, q), q))
+        .filter(|&(x, _)| x > 0.0)
+        .collect();
+    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    bad.into_iter().map(|(_, q)| q).collect()
+}
+
+/// How far element q's worst corner is outside the window (degrees).
+fn corner_past(w: &Working, q: u32) -> f64 {
+    w.worst_of(&[q]).0
+}
+
+/// A change's rank by the smallest sine of the elements it changed
+/// (smaller first).
+fn sine_rank(w: &Working, changed: &[u32]) -> f64 {
+    let pairs: Vec<(u32, u8)> = changed.iter().map(|&q| (q, 0)).collect();
+    sine_worst_around_every_corner(w.mesh, &pairs)
 }
 
 /// Counts a change made and notes the nodes round it; returns them.

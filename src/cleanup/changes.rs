@@ -232,8 +232,8 @@ impl Working<'_> {
 
     /// The hexagon of q and the element across its edge k,
     /// counter-clockwise from v round q to u, round o (the edge k is u-v),
-    /// with o and where the edge is in o; None on a constrained edge or
-    /// where the two share more than the edge.
+    /// with o; None on a constrained edge or where the two share more
+    /// than the edge.
     fn hexagon(&self, q: u32, k: usize) -> Option<(u32, [u32; 6])> {
         let quad = self.mesh.quads[q as usize];
         let (u, v) = (quad[k], quad[(k + 1) % 4]);
