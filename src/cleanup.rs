@@ -121,7 +121,24 @@ fn clean_up_on(
         &mut stats,
         &mut touched,
     );
-    shape_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
+    // flips and collapses first; a split adds elements, so it comes only
+    // where they could not mend the shape
+    shape_round(
+        &OPS,
+        &mut w,
+        &mut helper,
+        &look_at,
+        &mut stats,
+        &mut touched,
+    );
+    shape_round(
+        &SPLITS,
+        &mut w,
+        &mut helper,
+        &look_at,
+        &mut stats,
+        &mut touched,
+    );
     split_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
     // the collapsed elements' slots go
     let Working { mesh, alive, .. } = w;
@@ -190,10 +207,11 @@ fn rounds(
 
 /// One round over the elements of `look_at` past the shape and size
 /// bounds (aspect ratio or taper above 10, size above twice a
-/// neighbour's), worst first: each gets the change that brings its region
+/// neighbour's), worst first: each gets the change of `ops` that brings its region
 /// furthest within them, if it does so clearly and no corner of the
 /// region gets worse.
 fn shape_round(
+    ops: &[Op],
     w: &mut Working,
     helper: &mut Option<Working>,
     look_at: &[u32],
@@ -205,7 +223,7 @@ fn shape_round(
         if !w.alive[q as usize] || past(w, q) <= 0.0 {
             continue;
         }
-        let candidates: Vec<Change> = OPS.iter().flat_map(|&op| changes(w, q, op)).collect();
+        let candidates: Vec<Change> = ops.iter().flat_map(|&op| changes(w, q, op)).collect();
         // ranked by the changed elements' excess; kept if the region's
         // gets clearly smaller with no corner worse
         let done = best_change(
