@@ -319,6 +319,11 @@ impl Front {
     pub fn loop_head(&self, l: u32) -> Fv {
         self.loops[l as usize].head
     }
+    /// Whether loop `l` is still on the front (a loop closed, or merged
+    /// into another when elements were taken back, is not).
+    pub fn is_live(&self, l: u32) -> bool {
+        self.loops[l as usize].alive
+    }
     /// Ids of the live loops.
     pub fn live_loops(&self) -> Vec<u32> {
         (0..self.loops.len() as u32)

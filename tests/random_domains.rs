@@ -530,8 +530,8 @@ fn random_valid_domains_give_valid_all_quad_meshes() {
 /// place, the rest kept, never the whole domain by the triangle fallback.
 /// (Seeds 426 and 458 were here too: since rd_unmerge and the final
 /// patterns' choice their rules' mesh has, besides, an edge shared by
-/// three elements (426) or a six-segment loop no pattern closes (458),
-/// and both are meshed whole again: the next kinds of fault to mend.)
+/// three elements (426) or a six-segment loop no pattern closes (458);
+/// see the next test.)
 #[test]
 fn a_lost_line_segment_is_mended_round_it_not_by_meshing_the_whole_domain_again() {
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
@@ -550,6 +550,36 @@ fn a_lost_line_segment_is_mended_round_it_not_by_meshing_the_whole_domain_again(
         assert_eq!(
             r.stats.triangle_fallbacks, 0,
             "seed {seed} meshed whole by the fallback"
+        );
+    }
+}
+
+/// Seeds where, in one pass of the fallbacks, a loop's elements taken
+/// back took in a second open loop, and the second, gone from the front,
+/// was closed after all from its old nodes: a ring on a loop already
+/// ringed (an edge shared by three elements: 222, 893; 176 beside a
+/// loop of four no fallback closed) or a loop the triangles could not
+/// close (458), each meshed whole by the triangle fallback until the pass
+/// skipped the loops no longer on the front.
+#[test]
+fn a_loop_taken_in_by_another_is_not_closed_again_from_its_old_nodes() {
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    for seed in [176, 222, 458, 893] {
+        let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
+        let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        let loops = 1 + domain.hole_count() as u32;
+        let area = boundary_area(&r.mesh, loops);
+        assert_eq!(
+            mesh_fault(r.mesh.nodes(), r.mesh.quads(), area),
+            None,
+            "seed {seed}"
+        );
+        assert_eq!(
+            r.stats.triangle_fallbacks,
+            0,
+            "seed {seed} meshed whole by the fallback: {:?}",
+            r.stopped_short.as_ref().map(|s| &s.reason)
         );
     }
 }

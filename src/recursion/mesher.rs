@@ -293,6 +293,11 @@ impl<'k> Mesher<'k> {
                 open.extend(rest);
             }
             for l in open {
+                // a loop an earlier one's fallback took in (its elements
+                // taken back) is gone: its old nodes are no loop to close
+                if !self.pm.front.is_live(l) {
+                    continue;
+                }
                 if self.pm.front.loop_len(l) <= 6 && self.try_close_loop(l)? {
                     changed = true;
                     continue;
@@ -306,6 +311,9 @@ impl<'k> Mesher<'k> {
             // nothing else moves: a small loop closed whole with convex
             // elements is better than the open loops' fallback
             for l in self.pm.front.live_loops() {
+                if !self.pm.front.is_live(l) {
+                    continue;
+                }
                 changed |= self.close_stuck_loop(l, false)?;
             }
         }
