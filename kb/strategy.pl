@@ -115,6 +115,10 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 %   that splits the loop only while its parts score (their worst corner's
 %   distance from 90 deg) within the window plus this many deg (the new
 %   nodes are placed again at the end, which can bring a way back in).
+% closing_strict_size: that strict closing keeps each element on the loop
+%   within this factor of the size of the loop's edges it takes (the
+%   elements across them are about that size, and neighbours may differ
+%   by max_size_jump at most).
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -150,3 +154,4 @@ bound(block_arc_step, 45).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
+bound(closing_strict_size, 1.6).

@@ -214,7 +214,8 @@ pub fn try_close_stuck_loop(
         let side = ((q[2] - q[0]).perp_dot(q[3] - q[1]).abs() * 0.5).sqrt();
         let size_fits = k == 0 || {
             let r = side * k as f64 / sum;
-            (1.0 / STRICT_SIZE..=STRICT_SIZE).contains(&r)
+            let most = pm.host.closing_strict_size;
+            (1.0 / most..=most).contains(&r)
         };
         size_fits && crate::element_quality::worst_excess(q, &pm.bounds) == 0.0
     };
@@ -256,11 +257,6 @@ pub fn try_close_stuck_loop(
     );
     Ok(true)
 }
-
-/// How far (a factor) a strictly closed loop's element may be from the
-/// size of the loop's edges it takes: its neighbours across them are
-/// about that size, and the size jump allowed is 2.
-const STRICT_SIZE: f64 = 1.6;
 
 /// The trace's names of a closed loop's angles, in loop order (the bound
 /// `closing_loop_segments` is below 41).

@@ -237,6 +237,10 @@ pub struct HostBounds {
     /// a split only while its parts score within the corner window plus
     /// this many degrees (see final_patterns.rs).
     pub closing_strict_margin: f64,
+    /// `closing_strict_size`: the strict closing of a stuck loop keeps an
+    /// element on the loop within this factor of the loop's edges it
+    /// takes (see final_patterns.rs).
+    pub closing_strict_size: f64,
 }
 
 impl Default for HostBounds {
@@ -244,7 +248,7 @@ impl Default for HostBounds {
     fn default() -> HostBounds {
         HostBounds::new([
             4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0, 2.0, 12.0, 10.0,
+            45.0, 2.0, 12.0, 10.0, 1.6,
         ])
         .expect("the built-in host bounds are consistent")
     }
@@ -252,7 +256,7 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 19] = [
+    pub const NAMES: [&'static str; 20] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -272,13 +276,14 @@ impl HostBounds {
         "fallback_reopen_rings",
         "closing_loop_segments",
         "closing_strict_margin",
+        "closing_strict_size",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 19]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin] =
+    pub fn new(v: [f64; 20]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -300,6 +305,7 @@ impl HostBounds {
             (0.0, 100.0),
             (0.0, 41.0),
             (0.0, 90.0),
+            (1.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -330,6 +336,7 @@ impl HostBounds {
             fallback_reopen_rings,
             closing_loop_segments,
             closing_strict_margin,
+            closing_strict_size,
         })
     }
 }

@@ -71,3 +71,15 @@ fn a_wider_clearance_in_the_kb_is_the_one_the_validity_check_applies() {
         front_vetoes(&built_in)
     );
 }
+
+#[test]
+fn the_strict_closings_size_factor_is_the_kbs() {
+    // bound(closing_strict_size, F): how far from the size of the loop's
+    // edges an element of a stuck loop closed strictly may be. At 1.0
+    // (the loop's edges' size exactly) the strict closings the plate's
+    // run makes at 1.6 are refused and its loops are closed otherwise.
+    let built_in = mesh_plate(None);
+    let exact = mesh_plate(Some("tests/kb/strict-closing-size-1.pl"));
+    assert_ne!(exact.mesh.quads(), built_in.mesh.quads());
+    assert_eq!(exact.quality.pct_45_135, 100.0);
+}
