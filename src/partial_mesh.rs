@@ -431,10 +431,12 @@ impl PartialMesh {
             }
             if bad {
                 eprintln!(
-                    "DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}",
+                    "DEBUG: quad {qi} {:?} overlaps quad {j} {:?} at step {}: {:?} and {:?}",
                     self.mesh.quads[qi],
                     self.mesh.quads[j],
-                    self.steps + 1
+                    self.steps + 1,
+                    p.map(|x| (x.x, x.y)),
+                    r.map(|x| (x.x, x.y))
                 );
             }
         }
