@@ -165,12 +165,13 @@ pub struct PartialMesh {
     edge_owner: Option<HashMap<(u32, u32), u32>>,
     /// The area of the domain (what the finished mesh must cover).
     pub area: f64,
-    /// Whether a loop that a merge or a take-back leaves must enclose an
-    /// area (a region on its left): with lines that end on a loop, a loop
-    /// can pass a hole's ring and a merge part that ring off on its own,
-    /// which no rule or fallback closes. Only for such domains, so that the
-    /// others mesh as they did (on four public domains the guard changes
-    /// the mesh, for better and worse).
+    /// Whether a loop that a take-back leaves must enclose an area (a
+    /// region on its left): with lines that end on a loop, a loop can pass
+    /// a hole's ring and the take-back part that ring off on its own,
+    /// which no rule or fallback closes. Only for such domains: on for all
+    /// (with the merges'), 844 of the 1055 random domains of the README
+    /// were within the bounds against 852. (A merge is held to it on
+    /// every domain, see `Mesher::commit_element`.)
     pub guard_loop_areas: bool,
     /// The inner lines' segments, both ways: the domain lies on both
     /// sides of them (see `parts_a_line_seam`).

@@ -584,6 +584,26 @@ fn a_loop_taken_in_by_another_is_not_closed_again_from_its_old_nodes() {
     }
 }
 
+/// Seed 1: a slot with a circular hole a quarter of its size. A merge
+/// parted the hole's ring off on its own (a loop round no area), the
+/// rules placed elements inside the hole and the whole domain went to
+/// the triangle fallback; a merge now never leaves such a loop.
+#[test]
+fn a_merge_never_parts_off_a_holes_ring_on_its_own() {
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let domain = Domain::from_json(&generate(1)).expect("a valid domain");
+    let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
+        .unwrap_or_else(|e| panic!("seed 1: {e}"));
+    let area = boundary_area(&r.mesh, 1 + domain.hole_count() as u32);
+    assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None);
+    assert_eq!(
+        r.stats.triangle_fallbacks,
+        0,
+        "meshed whole by the fallback: {:?}",
+        r.stopped_short.as_ref().map(|s| &s.reason)
+    );
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

@@ -531,9 +531,9 @@ impl<'k> Mesher<'k> {
             parted = true;
         }
         // a merge parts the loop into two regions side by side, never a
-        // hole's ring on its own (a loop round no area); see
-        // `PartialMesh::guard_loop_areas`
-        if ok && parted && self.pm.guard_loop_areas {
+        // hole's ring on its own (a loop round no area: the rules would
+        // place elements inside the hole, no front edge crossing them)
+        if ok && parted {
             ok = self
                 .pm
                 .front
