@@ -207,9 +207,9 @@ fn rounds(
 
 /// One round over the elements of `look_at` past the shape and size
 /// bounds (aspect ratio or taper above 10, size above twice a
-/// neighbour's), worst first: each gets the change of `ops` that brings its region
-/// furthest within them, if it does so clearly and no corner of the
-/// region gets worse.
+/// neighbour's), worst first: each gets the change of `ops` that brings
+/// its region furthest within them, if it does so clearly and no corner
+/// of the region gets worse.
 fn shape_round(
     ops: &[Op],
     w: &mut Working,

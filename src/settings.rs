@@ -246,15 +246,17 @@ pub struct HostBounds {
 impl Default for HostBounds {
     /// The built-in values (kb/strategy.pl).
     fn default() -> HostBounds {
-        HostBounds::new([
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0, 2.0, 12.0, 10.0, 1.6,
-        ])
-        .expect("the built-in host bounds are consistent")
+        HostBounds::new(HostBounds::BUILT_IN).expect("the built-in host bounds are consistent")
     }
 }
 
 impl HostBounds {
+    /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
+    pub const BUILT_IN: [f64; 20] = [
+        4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
+        2.0, 12.0, 10.0, 1.6,
+    ];
+
     /// The names of the `bound/2` entries, in the order `new` takes them.
     pub const NAMES: [&'static str; 20] = [
         "valid_corner",
@@ -372,10 +374,7 @@ mod tests {
 
     #[test]
     fn a_negative_reach_is_refused() {
-        let mut v = [
-            4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0,
-            45.0, 2.0, 12.0, 10.0, 1.6,
-        ];
+        let mut v = HostBounds::BUILT_IN;
         v[6] = -1.0;
         let e = HostBounds::new(v).unwrap_err();
         assert!(e.contains("relation_reach"), "{e}");
