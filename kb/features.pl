@@ -75,13 +75,19 @@ feature(tip, ctx(_, T4, T1, T2, _, _, _, _)) :-
 
 % coarsen: where the run is graded and the size aimed for is
 % bound(coarsen_ratio, _) times the edge or more, a front running flat
-% over N4N1, N1N2, N2N5 (theta1, theta2 near straight, theta4, theta5
-% open, the three edges of about one length): three edges become one
-% over two rows, in the spirit of paving's row adjustments (action t3).
+% over N4N1, N1N2, N2N5 (theta1, theta2 near straight, the three edges
+% of about one length): three edges become one over two rows, in the
+% spirit of paving's row adjustments (action t3). theta4 and theta5 are
+% open, or a right angle at the foot of a step an earlier transition
+% left: the template then meets that step's top, so transitions sit side
+% by side and leave a flat front for the next.
 feature(coarsen, ctx(_, T4, T1, T2, T5, L5, L6, R)) :-
     bound(coarsen_ratio, C), R >= C,
-    flat_(T1), flat_(T2), T4 >= 150, T4 =< 240, T5 >= 150, T5 =< 240,
+    flat_(T1), flat_(T2), coarsen_side_(T4), coarsen_side_(T5),
     alike_(L5), alike_(L6).
+
+coarsen_side_(T) :- T >= 150, T =< 240.
+coarsen_side_(T) :- T >= 75, T =< 105.
 
 open_(U, T) :- T >= U, T =< 240.
 

@@ -96,6 +96,12 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 % row_growth: in a graded run, a row (b1's a1) is made up to this many
 %   times higher than usual where the size aimed for is that much above
 %   the edge's length.
+% coarsest_edge: in a graded run, a transition (t3) whose new edge would
+%   be longer than this many times max_size is refused (a veto in the
+%   trace, reason above_coarsest_edge): three edges become one, so near
+%   the limit a transition would overshoot it, and the rows after it link
+%   such edges further (a3 over two of them): at 1.5 the square of
+%   tests/grading.rs got edges of 1.63 times the limit, at 1.2 of 1.18.
 % block_size: with --blocks, the rules first mesh the domain at this many
 %   times the element size; each of those elements becomes a block,
 %   meshed as a mapping element (src/blocks/).
@@ -149,6 +155,7 @@ bound(thin_wall, 2).
 bound(size_growth, 0.6).
 bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
+bound(coarsest_edge, 1.2).
 bound(block_size, 4).
 bound(block_arc_step, 45).
 bound(fallback_reopen_rings, 2).

@@ -241,6 +241,10 @@ pub struct HostBounds {
     /// element on the loop within this factor of the loop's edges it
     /// takes (see final_patterns.rs).
     pub closing_strict_size: f64,
+    /// `coarsest_edge`: in a graded run, a transition whose new edge
+    /// would be longer than this many times `max_size` is refused (see
+    /// recursion/mesher/coarsen.rs).
+    pub coarsest_edge: f64,
 }
 
 impl Default for HostBounds {
@@ -252,13 +256,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 20] = [
+    pub const BUILT_IN: [f64; 21] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6,
+        2.0, 12.0, 10.0, 1.6, 1.2,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 20] = [
+    pub const NAMES: [&'static str; 21] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -279,13 +283,14 @@ impl HostBounds {
         "closing_loop_segments",
         "closing_strict_margin",
         "closing_strict_size",
+        "coarsest_edge",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 20]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size] =
+    pub fn new(v: [f64; 21]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -308,6 +313,7 @@ impl HostBounds {
             (0.0, 41.0),
             (0.0, 90.0),
             (1.0, f64::MAX),
+            (0.1, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -339,6 +345,7 @@ impl HostBounds {
             closing_loop_segments,
             closing_strict_margin,
             closing_strict_size,
+            coarsest_edge,
         })
     }
 }

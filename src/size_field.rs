@@ -91,6 +91,11 @@ impl SizeField {
         })
     }
 
+    /// The largest size it aims for (the run's `max_size`).
+    pub fn max_size(&self) -> f64 {
+        self.max_size
+    }
+
     /// The target size at `p`.
     pub fn at(&self, p: DVec2) -> f64 {
         let mut best = self.max_size;

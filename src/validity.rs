@@ -38,6 +38,9 @@ pub enum Vetoed {
     Loop,
     /// An action the host cannot place as an element here.
     NotPlaceable,
+    /// A transition whose new edge would be longer than
+    /// `bound(coarsest_edge, _)` times the run's `max_size`.
+    AboveCoarsestEdge,
 }
 
 impl Vetoed {
@@ -50,6 +53,7 @@ impl Vetoed {
             Vetoed::Front => "front_crossed_or_too_close",
             Vetoed::Loop => "odd_loop_or_spike",
             Vetoed::NotPlaceable => "not_placeable",
+            Vetoed::AboveCoarsestEdge => "above_coarsest_edge",
         }
     }
 }

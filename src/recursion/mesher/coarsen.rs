@@ -11,9 +11,17 @@
 //! ```
 //!
 //! b0 b1 m1 t0, b1 b2 m2 m1, b2 b3 t1 m2 and m1 m2 t1 t0; the front then
-//! reads b0 t0 t1 b3 (two edges fewer, so every loop stays even). The
-//! elements are committed one by one, as a1, a2, a2 and a3 would make
+//! reads b0 t0 t1 b3 (as many edges as before, so every loop stays even).
+//! The elements are committed one by one, as a1, a2, a2 and a3 would make
 //! them, each traced with the t3 that placed it.
+//!
+//! Beside an earlier transition (the KB's coarsen admits a right angle
+//! at b0 or b3, a step), the step's top node is where t0 (or t1) would
+//! go: the template takes that node instead of making one, so that
+//! transitions sit side by side and the coarser front they leave is flat
+//! and even, ready for the next one. The first element is then made as
+//! a2 would make it, the third as a3; each step taken removes two more
+//! front edges.
 
 use glam::DVec2;
 
@@ -24,7 +32,7 @@ use crate::initial_design::QNode;
 use crate::kb::Action;
 use crate::recursion::MeshError;
 use crate::report::trace::{Angles, By, TraceStep, Veto};
-use crate::validity::element_valid;
+use crate::validity::{element_valid, Vetoed};
 
 /// Where the four new nodes go: m1, m2 above b1, b2 at `height` times
 /// the edges' mean length, t0, t1 above b0, b3 at twice that (each along
@@ -61,19 +69,46 @@ impl Mesher<'_> {
         let b = b_id.map(|n| self.pm.mesh.nodes[n as usize]);
         let side = if lab.mirrored { -1.0 } else { 1.0 };
         let [m1, m2, t0, t1] = template_nodes(b, side, height);
+        // a step's top node near t0 (before b0) or t1 (after b3) is taken
+        // instead: within a third of the template's height of it
+        let near = 0.3 * (t0 - b[0]).length().min((t1 - b[3]).length());
+        let step_top = |fv: Fv, at: DVec2| -> Option<Fv> {
+            let p = self.pm.pos(fv);
+            let beyond = b_fv.contains(&fv);
+            ((p - at).length() <= near && !beyond).then_some(fv)
+        };
+        let left = step_top(lab.n7, t0);
+        let right = step_top(along(&self.pm.front, lab.n5, lab.mirrored), t1);
+        if left.is_some() && left == right {
+            return Ok(false);
+        }
         // each of the four judged as any designed element is (labelled
         // order, the reading's orientation)
         let (f, n) = (QNode::Front, QNode::New);
+        let top0 = left.map_or(n(t0), f);
+        let top1 = right.map_or(n(t1), f);
         let quads = [
-            [f(b_fv[0]), f(b_fv[1]), n(m1), n(t0)],
+            [f(b_fv[0]), f(b_fv[1]), n(m1), top0],
             [f(b_fv[1]), f(b_fv[2]), n(m2), n(m1)],
-            [f(b_fv[2]), f(b_fv[3]), n(t1), n(m2)],
-            [n(m1), n(m2), n(t1), n(t0)],
+            [f(b_fv[2]), f(b_fv[3]), top1, n(m2)],
+            [n(m1), n(m2), top1, top0],
         ];
         let edge = [b_id[1] as i64, b_id[2] as i64];
-        let why = quads
-            .iter()
-            .find_map(|q| element_valid(&mut self.pm, q, lab.mirrored).err());
+        // the new edge t0t1 no longer than the KB's coarsest edge allows
+        let top = |q: QNode| match q {
+            QNode::Front(fv) | QNode::Merged(fv) => self.pm.pos(fv),
+            QNode::New(p) => p,
+        };
+        let too_coarse = self.pm.size_field.as_ref().is_some_and(|f| {
+            (top(top1) - top(top0)).length() > self.pm.host.coarsest_edge * f.max_size()
+        });
+        let why = if too_coarse {
+            Some(Vetoed::AboveCoarsestEdge)
+        } else {
+            quads
+                .iter()
+                .find_map(|q| element_valid(&mut self.pm, q, lab.mirrored).err())
+        };
         if let Some(why) = why {
             self.pm.note_veto(|before_step| Veto {
                 before_step,
@@ -113,7 +148,7 @@ impl Mesher<'_> {
                 },
             ),
             (1, QNode::New(m2), QNode::New(m1), dummy_a2.clone()),
-            (2, QNode::New(t1), QNode::New(m2), dummy_a2),
+            (2, QNode::New(t1), QNode::New(m2), dummy_a2.clone()),
         ];
         let mut made = 0;
         let mut m1_fv = None;
@@ -126,12 +161,34 @@ impl Mesher<'_> {
             if l.n2 != b_fv[k + 1] {
                 break;
             }
-            // the corner before N1 is the node the last element made
-            let n4 = if k == 0 { n4 } else { QNode::Front(l.n4) };
+            // the corner before N1 is the node the last element made (or
+            // the step's top beside the first)
+            let n4 = if k == 0 && left.is_none() {
+                n4
+            } else {
+                QNode::Front(l.n4)
+            };
             if k == 1 {
                 m1_fv = Some(l.n4);
             }
-            let el = [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4];
+            let (el, act) = match (k, left, right) {
+                (0, Some(top), _) if l.n4 == top => (
+                    [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4],
+                    dummy_a2.clone(),
+                ),
+                (0, Some(_), _) => break,
+                (2, _, Some(top)) if l.n5 == top => {
+                    let el = [
+                        QNode::Front(l.n1),
+                        QNode::Front(l.n2),
+                        QNode::Front(l.n5),
+                        QNode::Front(l.n4),
+                    ];
+                    (el, Action::A3)
+                }
+                (2, _, Some(_)) => break,
+                _ => ([QNode::Front(l.n1), QNode::Front(l.n2), n3, n4], act),
+            };
             if !self.commit_part(&el, &l, &act, edge, feature, action, &angles)? {
                 break;
             }
