@@ -160,14 +160,10 @@ fn a_limit_equal_to_the_size_gives_the_uniform_mesh() {
     assert_eq!(uniform.mesh.nodes(), same.mesh.nodes());
 }
 
-/// The built-in KB with `clauses` consulted (from a file named after
-/// `name` in the temporary folder).
-fn kb_with(name: &str, clauses: &str) -> KnowledgeBase {
-    let file = std::env::temp_dir().join(format!("freemesh-{name}-{}.pl", std::process::id()));
-    std::fs::write(&file, clauses).unwrap();
+/// The built-in KB with a file of tests/kb consulted.
+fn kb_with(file: &str) -> KnowledgeBase {
     let mut kb = KnowledgeBase::builtin().unwrap();
-    kb.consult_file(&file.to_string_lossy()).unwrap();
-    let _ = std::fs::remove_file(&file);
+    kb.consult_file(file).unwrap();
     kb
 }
 
@@ -189,7 +185,7 @@ fn the_kb_sees_and_changes_the_transition() {
     let d = square();
     let mut kb = KnowledgeBase::builtin().unwrap();
     let graded = run(&mut kb, &d, Some(3.0));
-    let mut never = kb_with("never-coarsen", "bound(coarsen_ratio, 1000).\n");
+    let mut never = kb_with("tests/kb/never-coarsen.pl");
     let without = run(&mut never, &d, Some(3.0));
     assert!(without.trace.iter().all(|s| s.feature != "coarsen"));
     assert!(without.mesh.quads().len() > graded.mesh.quads().len());
@@ -232,7 +228,7 @@ fn the_kb_bounds_a_transitions_new_edge() {
             .filter(|v| v.reason == "above_coarsest_edge")
             .count()
     };
-    let mut fine = kb_with("coarsest-edge", "bound(coarsest_edge, 0.5).\n");
+    let mut fine = kb_with("tests/kb/coarsest-edge-0.5.pl");
     let capped = run(&mut fine, &d, Some(3.0));
     assert!(
         vetoed(&capped) > vetoed(&graded),

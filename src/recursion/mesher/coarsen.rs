@@ -28,7 +28,7 @@ use glam::DVec2;
 use super::Mesher;
 use crate::features::{along, labels, Labels};
 use crate::front::Fv;
-use crate::initial_design::QNode;
+use crate::initial_design::{qpos, QNode};
 use crate::kb::Action;
 use crate::recursion::MeshError;
 use crate::report::trace::{Angles, By, TraceStep, Veto};
@@ -95,12 +95,9 @@ impl Mesher<'_> {
         ];
         let edge = [b_id[1] as i64, b_id[2] as i64];
         // the new edge t0t1 no longer than the KB's coarsest edge allows
-        let top = |q: QNode| match q {
-            QNode::Front(fv) | QNode::Merged(fv) => self.pm.pos(fv),
-            QNode::New(p) => p,
-        };
+        let at = |q: QNode| qpos(&self.pm.front, &self.pm.mesh.nodes, q);
         let too_coarse = self.pm.size_field.as_ref().is_some_and(|f| {
-            (top(top1) - top(top0)).length() > self.pm.host.coarsest_edge * f.max_size()
+            (at(top1) - at(top0)).length() > self.pm.host.coarsest_edge * f.max_size()
         });
         let why = if too_coarse {
             Some(Vetoed::AboveCoarsestEdge)
@@ -161,9 +158,19 @@ impl Mesher<'_> {
             if l.n2 != b_fv[k + 1] {
                 break;
             }
+            // beside a step, the first element takes the step's top as a2
+            // takes N4, the third links N4 to it (N5) as a3 does
+            let step = match k {
+                0 => left.map(|top| (top, l.n4)),
+                2 => right.map(|top| (top, l.n5)),
+                _ => None,
+            };
+            if step.is_some_and(|(top, at)| top != at) {
+                break;
+            }
             // the corner before N1 is the node the last element made (or
-            // the step's top beside the first)
-            let n4 = if k == 0 && left.is_none() {
+            // the step's top)
+            let n4 = if k == 0 && step.is_none() {
                 n4
             } else {
                 QNode::Front(l.n4)
@@ -171,24 +178,12 @@ impl Mesher<'_> {
             if k == 1 {
                 m1_fv = Some(l.n4);
             }
-            let (el, act) = match (k, left, right) {
-                (0, Some(top), _) if l.n4 == top => (
-                    [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4],
-                    dummy_a2.clone(),
-                ),
-                (0, Some(_), _) => break,
-                (2, _, Some(top)) if l.n5 == top => {
-                    let el = [
-                        QNode::Front(l.n1),
-                        QNode::Front(l.n2),
-                        QNode::Front(l.n5),
-                        QNode::Front(l.n4),
-                    ];
-                    (el, Action::A3)
-                }
-                (2, _, Some(_)) => break,
-                _ => ([QNode::Front(l.n1), QNode::Front(l.n2), n3, n4], act),
+            let (n3, act) = match (k, step) {
+                (0, Some(_)) => (n3, dummy_a2.clone()),
+                (2, Some(_)) => (QNode::Front(l.n5), Action::A3),
+                _ => (n3, act),
             };
+            let el = [QNode::Front(l.n1), QNode::Front(l.n2), n3, n4];
             if !self.commit_part(&el, &l, &act, edge, feature, action, &angles)? {
                 break;
             }
