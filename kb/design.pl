@@ -78,6 +78,9 @@ feature_action(b4, _, a4).
 % t3 for coarsen: the three edges become one over two rows, the first
 % row as high as the edges are long.
 feature_action(coarsen, _, t3(1.0)).
+% r3 for refine: the edge becomes three over two rows, the mirror of t3
+% (its first row a third of the edge high).
+feature_action(refine, _, r3(1.0)).
 % a5 for b5: phi4 = pi - theta1, phi2 = theta5/(theta1 + theta5) * theta2,
 % kept within [30, 150] so that both elements at N2 stay usable.
 feature_action(b5, ctx(_, _, T1, T2, T5, _, _, _), a2(Phi2, Phi4)) :-

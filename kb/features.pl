@@ -86,6 +86,20 @@ feature(coarsen, ctx(_, T4, T1, T2, T5, L5, L6, R)) :-
     flat_(T1), flat_(T2), coarsen_side_(T4), coarsen_side_(T5),
     alike_(L5), alike_(L6).
 
+% refine: the mirror of coarsen, where the size aimed for is
+% bound(refine_ratio, _) times the edge or less (an edge far coarser than
+% the place asks for: a fixed segment count coarser than the size): the
+% edge becomes three over two rows (action r3), its ends running on flat
+% or at the foot of the step an earlier refinement left beside it, whose
+% top the new template takes, so that refinements sit side by side. A
+% ratio of 0 (built in) never refines.
+feature(refine, ctx(_, _, T1, T2, _, _, _, R)) :-
+    bound(refine_ratio, C), C > 0, R =< C,
+    refine_end_(T1), refine_end_(T2).
+
+refine_end_(T) :- flat_(T).
+refine_end_(T) :- T >= 75, T =< 105.
+
 coarsen_side_(T) :- T >= 150, T =< 240.
 coarsen_side_(T) :- T >= 75, T =< 105.
 

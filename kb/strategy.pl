@@ -8,7 +8,7 @@ the other bounds keep the values below).
 
 ```
 ?- strategy(S).
-   S = [tip,b4,b5,b3,coarsen,b2,b1].
+   S = [tip,b4,b5,b3,coarsen,refine,b2,b1].
 ?- bound(upper_corner, U).
    U = 135.
 ```
@@ -27,8 +27,8 @@ the other bounds keep the values below).
 % element must take it whole), and the fronts that grow round it only
 % narrow it.
 % ?- strategy(S).
-%    S = [tip,b4,b5,b3,coarsen,b2,b1].
-strategy([tip, b4, b5, b3, coarsen, b2, b1]).
+%    S = [tip,b4,b5,b3,coarsen,refine,b2,b1].
+strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 
 %% bound(?Name, ?Value)
 %
@@ -93,6 +93,20 @@ strategy([tip, b4, b5, b3, coarsen, b2, b1]).
 % coarsen_ratio: where the size aimed for is this many times a flat
 %   front's edges, three of them become one over two rows (feature
 %   coarsen, design.pl).
+% refine_ratio: where the size aimed for is this many times an edge or
+%   less (a fixed segment count coarser than the size), the edge becomes
+%   three over two rows (feature refine, action r3, design.pl); 0: never.
+%   Off by default: on the random domains with such counts it did worse
+%   than without (README, "Refining coarse fixed counts"); a file with
+%   bound(refine_ratio, 0.45) and bound(uniform_size_band, 1.5) turns it
+%   on (tests/kb/refine-fixed-counts.pl). Keep it below a third of
+%   coarsen_ratio, so that three edges a refinement makes are never
+%   coarsened again, nor the edge a coarsening makes refined.
+% uniform_size_band: in a uniform run, an edge within this factor of the
+%   size reads a grading ratio R of 1; beyond it (a fixed segment count
+%   much coarser or finer than the size), the size over the edge, so
+%   that refine and coarsen see it. 1 or less (the default, 0): every
+%   edge of a uniform run reads 1.
 % row_growth: in a graded run, a row (b1's a1) is made up to this many
 %   times higher than usual where the size aimed for is that much above
 %   the edge's length.
@@ -156,6 +170,8 @@ bound(size_growth, 0.6).
 bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
 bound(coarsest_edge, 1.2).
+bound(refine_ratio, 0).
+bound(uniform_size_band, 0).
 bound(block_size, 4).
 bound(block_arc_step, 45).
 bound(fallback_reopen_rings, 2).

@@ -110,8 +110,8 @@ pub fn context_given(pm: &PartialMesh, lab: &Labels, t: [f64; 5]) -> Context {
 }
 
 /// The trace's record of the angles a design saw, and of the grading
-/// ratio where the run is graded (`ratio` is 1 in a uniform run, and left
-/// out there).
+/// ratio where it is not 1 (graded runs, and edges of a uniform run far
+/// from its size: `PartialMesh::grading_ratio`).
 pub fn angle_map(angles: &[f64; 5], ratio: f64) -> Angles {
     let names = ["theta7", "theta4", "theta1", "theta2", "theta5"];
     let mut named: Vec<(&'static str, f64)> =

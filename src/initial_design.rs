@@ -67,8 +67,8 @@ pub fn place(action: &Action, nb: &Neighbourhood) -> Option<(Option<DVec2>, Opti
             let p6 = nb.p5 + nb.p7 - nb.p1;
             Some((Some((nb.p2 + nb.p4 + p6) / 3.0), None))
         }
-        // t3 places four elements (recursion/mesher/coarsen.rs)
-        Action::T3 { .. } | Action::Shift(_) | Action::Merge(_, _) => None,
+        // t3 and r3 place four elements (recursion/mesher/coarsen.rs)
+        Action::T3 { .. } | Action::R3 { .. } | Action::Shift(_) | Action::Merge(_, _) => None,
     }
 }
 

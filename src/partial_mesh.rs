@@ -178,6 +178,8 @@ pub struct PartialMesh {
     line_segments: rustc_hash::FxHashSet<(u32, u32)>,
     /// The size aimed for at each place, in a graded run (None: uniform).
     pub size_field: Option<SizeField>,
+    /// The run's size (the boundary's, where no segment count is fixed).
+    pub size: f64,
 }
 
 impl PartialMesh {
@@ -232,6 +234,7 @@ impl PartialMesh {
             guard_loop_areas,
             line_segments,
             size_field: None,
+            size,
         };
         (pm, expected)
     }
@@ -252,14 +255,26 @@ impl PartialMesh {
     }
 
     /// The grading ratio of the edge from `a` to `b`: the size aimed for at
-    /// its middle over its length, in tenths (1 in a uniform run).
+    /// its middle over its length, in tenths. In a uniform run the size
+    /// aimed for is the run's size, and an edge within
+    /// `bound(uniform_size_band, _)` of it reads 1 (as most do: their
+    /// contexts stay alike), one beyond it its ratio (a fixed segment
+    /// count far from the size, for the transitions); with the band at 1
+    /// or less (built in) every edge reads 1.
     pub fn grading_ratio(&self, a: DVec2, b: DVec2) -> f64 {
+        let l = (b - a).length().max(1e-300);
+        let tenths = |r: f64| (r * 10.0).round() / 10.0;
         match &self.size_field {
-            Some(f) => {
-                let l = (b - a).length().max(1e-300);
-                ((f.at((a + b) * 0.5) / l) * 10.0).round() / 10.0
+            Some(f) => tenths(f.at((a + b) * 0.5) / l),
+            None => {
+                let r = self.size / l;
+                let band = self.host.uniform_size_band;
+                if band <= 1.0 || (r * band > 1.0 && r < band) {
+                    1.0
+                } else {
+                    tenths(r)
+                }
             }
-            None => 1.0,
         }
     }
 

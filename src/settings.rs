@@ -245,6 +245,12 @@ pub struct HostBounds {
     /// would be longer than this many times `max_size` is refused (see
     /// recursion/mesher/coarsen.rs).
     pub coarsest_edge: f64,
+    /// `uniform_size_band`: in a uniform run, an edge within this factor
+    /// of the size reads a grading ratio of 1; beyond it (a fixed segment
+    /// count much finer or coarser than the size) its true ratio, so that
+    /// the transitions can act (see partial_mesh.rs, `grading_ratio`);
+    /// 1 or less: every edge reads 1.
+    pub uniform_size_band: f64,
 }
 
 impl Default for HostBounds {
@@ -256,13 +262,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 21] = [
+    pub const BUILT_IN: [f64; 22] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 22] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -284,13 +290,14 @@ impl HostBounds {
         "closing_strict_margin",
         "closing_strict_size",
         "coarsest_edge",
+        "uniform_size_band",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 21]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge] =
+    pub fn new(v: [f64; 22]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -314,6 +321,7 @@ impl HostBounds {
             (0.0, 90.0),
             (1.0, f64::MAX),
             (0.1, f64::MAX),
+            (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -346,6 +354,7 @@ impl HostBounds {
             closing_strict_margin,
             closing_strict_size,
             coarsest_edge,
+            uniform_size_band,
         })
     }
 }

@@ -1,6 +1,7 @@
 //! Graded runs (the paper's third requirement): fine at the boundary,
 //! coarser inside up to `max_size`, within the paper's bounds, the
-//! transitions made by the KB's rules (feature coarsen, action t3) and
+//! transitions made by the KB's rules (feature coarsen, action t3; and
+//! refine, r3, for fixed counts coarser than the size, opt-in) and
 //! seen in the trace.
 
 use freemesh::{mesh_domain, Domain, KnowledgeBase, MeshResult, Options, UserAnswer};
@@ -251,4 +252,58 @@ fn a3_over_a_reflex_node_is_redesigned_into_a_row_that_reads_the_ratio() {
     assert!(rules.iter().any(|r| r == "rd13"), "{rules:?}");
     let actions = answers(&mut kb, q, "A");
     assert!(actions.iter().all(|a| a.starts_with("a1(")), "{actions:?}");
+}
+
+/// A plate whose top edge has a fixed count four times coarser than the
+/// size: a uniform run, where the transitions see the edges by their
+/// ratio to the size.
+fn plate_with_a_coarse_top() -> Domain {
+    domain(serde_json::json!({
+        "name": "coarse-top", "size": 0.25,
+        "outer": { "points": [[0, 0], [8, 0], [8, 3], [0, 3]], "segments": [0, 0, 8, 0] }
+    }))
+}
+
+#[test]
+fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
+    let d = plate_with_a_coarse_top();
+    let mut kb = kb_with("tests/kb/refine-fixed-counts.pl");
+    let refined = run(&mut kb, &d, None);
+    let by_refine = |r: &MeshResult| r.trace.iter().filter(|s| s.feature == "refine").count();
+    assert!(
+        by_refine(&refined) >= 4,
+        "{} refine steps",
+        by_refine(&refined)
+    );
+    within_the_bounds(&refined, "coarse-top");
+    // without refine (built in) the coarse edges' rows stretch toward the
+    // fine ones (largest aspect 7.7); with it they are near-square (2.9)
+    assert!(refined.quality.max_aspect < 5.0, "{:?}", refined.quality);
+    let mut builtin = KnowledgeBase::builtin().unwrap();
+    let without = run(&mut builtin, &d, None);
+    assert_eq!(by_refine(&without), 0);
+    assert!(without.quality.max_aspect > refined.quality.max_aspect);
+    // the KB sees the edge's ratio to the size: 0.4 refines, 1 does not,
+    // and a right angle at either end (an earlier refinement's step) is
+    // allowed, a sharper corner is not
+    let flat = |t1: &str, r: &str| {
+        format!("context_feature(ctx(180, 270, {t1}, 180, 180, 1, 1, {r}), F).")
+    };
+    assert_eq!(answers(&mut kb, &flat("180", "0.4"), "F"), ["refine", "b1"]);
+    assert_eq!(answers(&mut kb, &flat("180", "1"), "F"), ["b1"]);
+    assert_eq!(
+        answers(&mut kb, &flat("90", "0.4"), "F")
+            .first()
+            .map(String::as_str),
+        Some("refine")
+    );
+    assert!(!answers(&mut kb, &flat("60", "0.4"), "F").contains(&"refine".to_string()));
+    assert_eq!(
+        answers(
+            &mut kb,
+            "context_design(ctx(180, 180, 180, 180, 180, 1, 1, 0.4), _, A).",
+            "A"
+        ),
+        ["r3(1.0)"]
+    );
 }

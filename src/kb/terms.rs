@@ -212,6 +212,9 @@ impl Action {
                 ("t3", 1) => Some(Action::T3 {
                     height: term_number(&args[0])?,
                 }),
+                ("r3", 1) => Some(Action::R3 {
+                    height: term_number(&args[0])?,
+                }),
                 ("shift", 2) if term_number(&args[0]) == Some(1.0) => {
                     Some(Action::Shift(Box::new(Action::from_term(&args[1])?)))
                 }
@@ -255,6 +258,7 @@ impl fmt::Display for Action {
             Action::A3 => write!(f, "a3"),
             Action::A4 => write!(f, "a4"),
             Action::T3 { height } => write!(f, "t3({})", fmt_float(r2(*height))),
+            Action::R3 { height } => write!(f, "r3({})", fmt_float(r2(*height))),
             Action::Shift(a) => write!(f, "shift(1, {a})"),
             Action::Merge(c, a) => write!(
                 f,

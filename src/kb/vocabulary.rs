@@ -49,6 +49,14 @@ pub enum Action {
         /// The first row's height over the edges' mean length.
         height: f64,
     },
+    /// r3: the mirror of t3, one front edge N1N2 far coarser than the
+    /// place asks for becomes three over two rows (four elements): new
+    /// nodes at its thirds, `height` times a third of it inside, three
+    /// above them and N1 and N2 at twice that.
+    R3 {
+        /// The first row's height over a third of the edge.
+        height: f64,
+    },
     /// The action applied on the next edge along (redesign rules Rd10, Rd12).
     Shift(Box<Action>),
     /// The action with a new corner replaced by the nearest front node.
@@ -64,6 +72,7 @@ impl Action {
             Action::A3 => "a3",
             Action::A4 => "a4",
             Action::T3 { .. } => "t3",
+            Action::R3 { .. } => "r3",
             Action::Shift(a) | Action::Merge(_, a) => a.kind(),
         }
     }
@@ -82,7 +91,7 @@ impl Action {
             }
             Action::A2 { phi2, phi4 } => ang(*phi2) && ang(*phi4),
             Action::A3 | Action::A4 => true,
-            Action::T3 { height } => height.is_finite() && *height > 0.0,
+            Action::T3 { height } | Action::R3 { height } => height.is_finite() && *height > 0.0,
             Action::Shift(a) | Action::Merge(_, a) => a.is_sound(),
         }
     }

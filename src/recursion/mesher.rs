@@ -411,8 +411,14 @@ impl<'k> Mesher<'k> {
             return Ok(false);
         };
         let lab = labels(&self.pm.front, key / 2, key % 2 == 1);
-        if let Action::T3 { .. } = action {
-            return self.try_coarsen(lab, &action, &feature, angle_map(&angles, ratio));
+        match action {
+            Action::T3 { .. } => {
+                return self.try_coarsen(lab, &action, &feature, angle_map(&angles, ratio))
+            }
+            Action::R3 { .. } => {
+                return self.try_refine(lab, &action, &feature, angle_map(&angles, ratio))
+            }
+            _ => {}
         }
         let Redesign {
             element: el,

@@ -1,5 +1,5 @@
-//! The transition to a coarser interior: the action t3 (kb/design.pl,
-//! feature coarsen). Three flat front edges b0b1, b1b2, b2b3 (N4N1,
+//! The transitions: to a coarser interior, the action t3 (kb/design.pl,
+//! feature coarsen), and its mirror to a finer one, r3 (feature refine). Three flat front edges b0b1, b1b2, b2b3 (N4N1,
 //! N1N2, N2N5) become one, t0t1, over two rows of four elements:
 //!
 //! ```text
@@ -22,6 +22,14 @@
 //! and even, ready for the next one. The first element is then made as
 //! a2 would make it, the third as a3; each step taken removes two more
 //! front edges.
+
+//! r3 is the same template upside down: one front edge t0t1 far coarser
+//! than the place asks for (a fixed segment count coarser than the size)
+//! becomes three, b0b1, b1b2, b2b3, over two rows: t0 t1 m2 m1 (the cap),
+//! t0 m1 b1 b0, m1 m2 b2 b1 and m2 t1 b3 b2; the front then reads t0 b0
+//! b1 b2 b3 t1 (four edges more, every loop stays even). Beside an earlier
+//! refinement, b0 (or b3) is that one's step top, N4 (or N5), taken as t3
+//! takes its own.
 
 use glam::DVec2;
 
@@ -50,7 +58,135 @@ fn template_nodes(b: [DVec2; 4], side: f64, height: f64) -> [DVec2; 4] {
     [m1, m2, b[0] + n01 * 2.0 * h, b[3] + n23 * 2.0 * h]
 }
 
+/// The actions a transition's elements are committed as (the template
+/// has placed their nodes; these say which of them are new).
+const SQUARE_A1: Action = Action::A1 {
+    phi1: 90.0,
+    phi2: 90.0,
+    l2: 1.0,
+    l4: 1.0,
+};
+const SQUARE_A2: Action = Action::A2 {
+    phi2: 90.0,
+    phi4: 90.0,
+};
+
+/// The labels of the edge from occurrence `first` to the next in the
+/// reading's direction (against the loop's where `mirrored`).
+fn reading_labels(front: &crate::front::Front, first: Fv, mirrored: bool) -> Labels {
+    let fv = if mirrored {
+        along(front, first, true)
+    } else {
+        first
+    };
+    labels(front, fv, mirrored)
+}
+
+/// Where r3's six new nodes go over the edge t0t1: m1, m2 at its thirds,
+/// `height` times a third of it inside; b1, b2 above them and b0, b3
+/// above t0, t1, at twice that.
+fn refine_nodes(t0: DVec2, t1: DVec2, side: f64, height: f64) -> [DVec2; 6] {
+    let d = t1 - t0;
+    let u = d.normalize_or_zero();
+    let h = DVec2::new(-u.y, u.x) * side * height * d.length() / 3.0;
+    let (m1, m2) = (t0 + d / 3.0 + h, t0 + d * (2.0 / 3.0) + h);
+    [m1, m2, t0 + h * 2.0, m1 + h, m2 + h, t1 + h * 2.0]
+}
+
 impl Mesher<'_> {
+    /// Carries out r3 over the labelled edge N1N2: checks the four
+    /// elements against the front, then commits them (the cap as a1
+    /// makes it, the others as a1, a2 and a2 or a3 would). False (a veto
+    /// in the trace) when they do not fit.
+    pub(super) fn try_refine(
+        &mut self,
+        lab: Labels,
+        action: &Action,
+        feature: &str,
+        angles: Angles,
+    ) -> Result<bool, MeshError> {
+        let Action::R3 { height } = *action else {
+            return Ok(false);
+        };
+        let (t0, t1) = (self.pm.pos(lab.n1), self.pm.pos(lab.n2));
+        let side = if lab.mirrored { -1.0 } else { 1.0 };
+        let [m1, m2, b0, b1, b2, b3] = refine_nodes(t0, t1, side, height);
+        // a step's top beside the edge is taken for b0 (N4) or b3 (N5):
+        // within a third of the template's height of it
+        let near = 0.3 * (b0 - t0).length();
+        let step_top = |fv: Fv, at: DVec2| -> Option<Fv> {
+            ((self.pm.pos(fv) - at).length() <= near).then_some(fv)
+        };
+        let left = step_top(lab.n4, b0);
+        let right = step_top(lab.n5, b3);
+        if left.is_some() && left == right {
+            return Ok(false);
+        }
+        let (f, n) = (QNode::Front, QNode::New);
+        let top0 = left.map_or(n(b0), f);
+        let top3 = right.map_or(n(b3), f);
+        let quads = [
+            [f(lab.n1), f(lab.n2), n(m2), n(m1)],
+            [f(lab.n1), n(m1), n(b1), top0],
+            [n(m1), n(m2), n(b2), n(b1)],
+            [n(m2), f(lab.n2), top3, n(b2)],
+        ];
+        let edge = [
+            self.pm.front.node(lab.n1) as i64,
+            self.pm.front.node(lab.n2) as i64,
+        ];
+        if !self.template_fits(&quads, lab.mirrored, None, edge, feature, action) {
+            return Ok(false);
+        }
+        let mir = lab.mirrored;
+        let edge_labels = |m: &Self, first: Fv| reading_labels(&m.pm.front, first, mir);
+        let (a1, a2) = (SQUARE_A1, SQUARE_A2);
+        // the cap over N1N2
+        let l = edge_labels(self, lab.n1);
+        if l.n2 != lab.n2 {
+            return Ok(false);
+        }
+        let cap = [f(l.n1), f(l.n2), n(m2), n(m1)];
+        if !self.commit_part(&cap, &l, &a1, edge, feature, action, &angles)? {
+            return Ok(false);
+        }
+        let mut made = 1;
+        // t0 m1 b1 b0 over N1 m1 (b0 the step's top N4, as a2 takes N4)
+        let l = edge_labels(self, lab.n1);
+        let (m1_fv, m2_fv) = (l.n2, along(&self.pm.front, l.n2, mir));
+        let (left_el, act) = match left {
+            Some(top) if top == l.n4 => ([f(l.n1), f(l.n2), n(b1), f(top)], &a2),
+            Some(_) => return Ok(true),
+            None => ([f(l.n1), f(l.n2), n(b1), n(b0)], &a1),
+        };
+        if !self.commit_part(&left_el, &l, act, edge, feature, action, &angles)? {
+            return Ok(true);
+        }
+        made += 1;
+        // m1 m2 b2 b1 over m1 m2, then m2 t1 b3 b2 over m2 N2 (b3 the
+        // step's top N5, linked as a3 links N4 and N5)
+        for k in 0..2 {
+            let first = if k == 0 { m1_fv } else { m2_fv };
+            if !self.pm.front.alive(first) {
+                break;
+            }
+            let l = edge_labels(self, first);
+            let (el, act) = match (k, right) {
+                (0, _) => ([f(l.n1), f(l.n2), n(b2), f(l.n4)], &a2),
+                (_, Some(top)) if top == l.n5 && l.n2 == lab.n2 => {
+                    ([f(l.n1), f(l.n2), f(top), f(l.n4)], &Action::A3)
+                }
+                (_, Some(_)) => break,
+                (_, None) => ([f(l.n1), f(l.n2), n(b3), f(l.n4)], &a2),
+            };
+            if !self.commit_part(&el, &l, act, edge, feature, action, &angles)? {
+                break;
+            }
+            made += 1;
+        }
+        Ok(made > 0)
+    }
+
     /// Carries out t3 over the labelled edge (N1N2 the middle one of the
     /// three): checks the four elements against the front, then commits
     /// them. False (a veto in the trace) when they do not fit.
@@ -99,51 +235,17 @@ impl Mesher<'_> {
         let too_coarse = self.pm.size_field.as_ref().is_some_and(|f| {
             (at(top1) - at(top0)).length() > self.pm.host.coarsest_edge * f.max_size()
         });
-        let why = if too_coarse {
-            Some(Vetoed::AboveCoarsestEdge)
-        } else {
-            quads
-                .iter()
-                .find_map(|q| element_valid(&mut self.pm, q, lab.mirrored).err())
-        };
-        if let Some(why) = why {
-            self.pm.note_veto(|before_step| Veto {
-                before_step,
-                edge,
-                feature: feature.to_string(),
-                action: action.to_string(),
-                reason: why.reason(),
-                outcome: "nothing",
-            });
+        let refused = too_coarse.then_some(Vetoed::AboveCoarsestEdge);
+        if !self.template_fits(&quads, lab.mirrored, refused, edge, feature, action) {
             return Ok(false);
         }
         // the four elements one by one, each over its own edge in the
         // reading's direction, as a1, a2, a2, a3 commit them
         let mir = lab.mirrored;
-        let edge_labels = |m: &Self, first: Fv| -> Labels {
-            let fv = if mir {
-                along(&m.pm.front, first, true)
-            } else {
-                first
-            };
-            labels(&m.pm.front, fv, mir)
-        };
-        let dummy_a2 = Action::A2 {
-            phi2: 90.0,
-            phi4: 90.0,
-        };
+        let edge_labels = |m: &Self, first: Fv| reading_labels(&m.pm.front, first, mir);
+        let dummy_a2 = SQUARE_A2;
         let steps: [(usize, QNode, QNode, Action); 3] = [
-            (
-                0,
-                QNode::New(m1),
-                QNode::New(t0),
-                Action::A1 {
-                    phi1: 90.0,
-                    phi2: 90.0,
-                    l2: 1.0,
-                    l4: 1.0,
-                },
-            ),
+            (0, QNode::New(m1), QNode::New(t0), SQUARE_A1),
             (1, QNode::New(m2), QNode::New(m1), dummy_a2.clone()),
             (2, QNode::New(t1), QNode::New(m2), dummy_a2.clone()),
         ];
@@ -208,7 +310,38 @@ impl Mesher<'_> {
         Ok(made > 0)
     }
 
-    /// Commits one element of a t3 and traces it; false when the front
+    /// Whether a transition's four elements all pass the validity check
+    /// (each judged as any designed element is, in labelled order) and
+    /// nothing refused it before (`refused`); else the veto is traced.
+    fn template_fits(
+        &mut self,
+        quads: &[[QNode; 4]; 4],
+        mirrored: bool,
+        refused: Option<Vetoed>,
+        edge: [i64; 2],
+        feature: &str,
+        action: &Action,
+    ) -> bool {
+        let why = refused.or_else(|| {
+            quads
+                .iter()
+                .find_map(|q| element_valid(&mut self.pm, q, mirrored).err())
+        });
+        let Some(why) = why else {
+            return true;
+        };
+        self.pm.note_veto(|before_step| Veto {
+            before_step,
+            edge,
+            feature: feature.to_string(),
+            action: action.to_string(),
+            reason: why.reason(),
+            outcome: "nothing",
+        });
+        false
+    }
+
+    /// Commits one element of a t3 or r3 and traces it; false when the front
     /// refuses it (a loop left odd or degenerate).
     #[allow(clippy::too_many_arguments)]
     fn commit_part(
@@ -255,5 +388,24 @@ mod tests {
         // mirrored: the other side
         let [m1, ..] = template_nodes(b, -1.0, 1.0);
         assert!((m1 - DVec2::new(1.0, -1.0)).length() < 1e-12);
+    }
+
+    #[test]
+    fn refinement_is_the_template_upside_down() {
+        let [m1, m2, b0, b1, b2, b3] = refine_nodes(DVec2::ZERO, DVec2::new(3.0, 0.0), 1.0, 1.0);
+        let want = [
+            (1.0, 1.0),
+            (2.0, 1.0),
+            (0.0, 2.0),
+            (1.0, 2.0),
+            (2.0, 2.0),
+            (3.0, 2.0),
+        ];
+        for (p, (x, y)) in [m1, m2, b0, b1, b2, b3].into_iter().zip(want) {
+            assert!(
+                (p - DVec2::new(x, y)).length() < 1e-12,
+                "{p} is not ({x}, {y})"
+            );
+        }
     }
 }
