@@ -98,10 +98,13 @@ feature(refine, ctx(_, _, T1, T2, _, _, _, R)) :-
     refine_end_(T1), refine_end_(T2).
 
 refine_end_(T) :- flat_(T).
-refine_end_(T) :- T >= 75, T =< 105.
+refine_end_(T) :- step_foot_(T).
 
 coarsen_side_(T) :- T >= 150, T =< 240.
-coarsen_side_(T) :- T >= 75, T =< 105.
+coarsen_side_(T) :- step_foot_(T).
+
+% The right angle at the foot of the step a transition leaves beside it.
+step_foot_(T) :- T >= 75, T =< 105.
 
 open_(U, T) :- T >= U, T =< 240.
 

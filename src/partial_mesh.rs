@@ -262,14 +262,17 @@ impl PartialMesh {
     /// count far from the size, for the transitions); with the band at 1
     /// or less (built in) every edge reads 1.
     pub fn grading_ratio(&self, a: DVec2, b: DVec2) -> f64 {
+        let band = self.host.uniform_size_band;
+        if self.size_field.is_none() && band <= 1.0 {
+            return 1.0;
+        }
         let l = (b - a).length().max(1e-300);
         let tenths = |r: f64| (r * 10.0).round() / 10.0;
         match &self.size_field {
             Some(f) => tenths(f.at((a + b) * 0.5) / l),
             None => {
                 let r = self.size / l;
-                let band = self.host.uniform_size_band;
-                if band <= 1.0 || (r * band > 1.0 && r < band) {
+                if r * band > 1.0 && r < band {
                     1.0
                 } else {
                     tenths(r)

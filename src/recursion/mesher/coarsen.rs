@@ -1,6 +1,7 @@
 //! The transitions: to a coarser interior, the action t3 (kb/design.pl,
-//! feature coarsen), and its mirror to a finer one, r3 (feature refine). Three flat front edges b0b1, b1b2, b2b3 (N4N1,
-//! N1N2, N2N5) become one, t0t1, over two rows of four elements:
+//! feature coarsen), and its mirror to a finer one, r3 (feature refine).
+//! In t3 three flat front edges b0b1, b1b2, b2b3 (N4N1, N1N2, N2N5)
+//! become one, t0t1, over two rows of four elements:
 //!
 //! ```text
 //!   t0 ------------------ t1
@@ -22,7 +23,7 @@
 //! and even, ready for the next one. The first element is then made as
 //! a2 would make it, the third as a3; each step taken removes two more
 //! front edges.
-
+//!
 //! r3 is the same template upside down: one front edge t0t1 far coarser
 //! than the place asks for (a fixed segment count coarser than the size)
 //! becomes three, b0b1, b1b2, b2b3, over two rows: t0 t1 m2 m1 (the cap),
@@ -114,11 +115,8 @@ impl Mesher<'_> {
         // a step's top beside the edge is taken for b0 (N4) or b3 (N5):
         // within a third of the template's height of it
         let near = 0.3 * (b0 - t0).length();
-        let step_top = |fv: Fv, at: DVec2| -> Option<Fv> {
-            ((self.pm.pos(fv) - at).length() <= near).then_some(fv)
-        };
-        let left = step_top(lab.n4, b0);
-        let right = step_top(lab.n5, b3);
+        let left = self.node_near(lab.n4, b0, near);
+        let right = self.node_near(lab.n5, b3, near);
         if left.is_some() && left == right {
             return Ok(false);
         }
@@ -140,29 +138,27 @@ impl Mesher<'_> {
         }
         let mir = lab.mirrored;
         let edge_labels = |m: &Self, first: Fv| reading_labels(&m.pm.front, first, mir);
-        let (a1, a2) = (SQUARE_A1, SQUARE_A2);
         // the cap over N1N2
         let l = edge_labels(self, lab.n1);
         if l.n2 != lab.n2 {
             return Ok(false);
         }
         let cap = [f(l.n1), f(l.n2), n(m2), n(m1)];
-        if !self.commit_part(&cap, &l, &a1, edge, feature, action, &angles)? {
+        if !self.commit_part(&cap, &l, &SQUARE_A1, edge, feature, action, &angles)? {
             return Ok(false);
         }
-        let mut made = 1;
+        // from here on the refinement has begun: true whatever follows
         // t0 m1 b1 b0 over N1 m1 (b0 the step's top N4, as a2 takes N4)
         let l = edge_labels(self, lab.n1);
         let (m1_fv, m2_fv) = (l.n2, along(&self.pm.front, l.n2, mir));
         let (left_el, act) = match left {
-            Some(top) if top == l.n4 => ([f(l.n1), f(l.n2), n(b1), f(top)], &a2),
+            Some(top) if top == l.n4 => ([f(l.n1), f(l.n2), n(b1), f(top)], &SQUARE_A2),
             Some(_) => return Ok(true),
-            None => ([f(l.n1), f(l.n2), n(b1), n(b0)], &a1),
+            None => ([f(l.n1), f(l.n2), n(b1), n(b0)], &SQUARE_A1),
         };
         if !self.commit_part(&left_el, &l, act, edge, feature, action, &angles)? {
             return Ok(true);
         }
-        made += 1;
         // m1 m2 b2 b1 over m1 m2, then m2 t1 b3 b2 over m2 N2 (b3 the
         // step's top N5, linked as a3 links N4 and N5)
         for k in 0..2 {
@@ -172,19 +168,18 @@ impl Mesher<'_> {
             }
             let l = edge_labels(self, first);
             let (el, act) = match (k, right) {
-                (0, _) => ([f(l.n1), f(l.n2), n(b2), f(l.n4)], &a2),
+                (0, _) => ([f(l.n1), f(l.n2), n(b2), f(l.n4)], &SQUARE_A2),
                 (_, Some(top)) if top == l.n5 && l.n2 == lab.n2 => {
                     ([f(l.n1), f(l.n2), f(top), f(l.n4)], &Action::A3)
                 }
                 (_, Some(_)) => break,
-                (_, None) => ([f(l.n1), f(l.n2), n(b3), f(l.n4)], &a2),
+                (_, None) => ([f(l.n1), f(l.n2), n(b3), f(l.n4)], &SQUARE_A2),
             };
             if !self.commit_part(&el, &l, act, edge, feature, action, &angles)? {
                 break;
             }
-            made += 1;
         }
-        Ok(made > 0)
+        Ok(true)
     }
 
     /// Carries out t3 over the labelled edge (N1N2 the middle one of the
@@ -208,11 +203,8 @@ impl Mesher<'_> {
         // a step's top node near t0 (before b0) or t1 (after b3) is taken
         // instead: within a third of the template's height of it
         let near = 0.3 * (t0 - b[0]).length().min((t1 - b[3]).length());
-        let step_top = |fv: Fv, at: DVec2| -> Option<Fv> {
-            let p = self.pm.pos(fv);
-            let beyond = b_fv.contains(&fv);
-            ((p - at).length() <= near && !beyond).then_some(fv)
-        };
+        let step_top =
+            |fv: Fv, at: DVec2| self.node_near(fv, at, near).filter(|fv| !b_fv.contains(fv));
         let left = step_top(lab.n7, t0);
         let right = step_top(along(&self.pm.front, lab.n5, lab.mirrored), t1);
         if left.is_some() && left == right {
@@ -243,11 +235,10 @@ impl Mesher<'_> {
         // reading's direction, as a1, a2, a2, a3 commit them
         let mir = lab.mirrored;
         let edge_labels = |m: &Self, first: Fv| reading_labels(&m.pm.front, first, mir);
-        let dummy_a2 = SQUARE_A2;
         let steps: [(usize, QNode, QNode, Action); 3] = [
             (0, QNode::New(m1), QNode::New(t0), SQUARE_A1),
-            (1, QNode::New(m2), QNode::New(m1), dummy_a2.clone()),
-            (2, QNode::New(t1), QNode::New(m2), dummy_a2.clone()),
+            (1, QNode::New(m2), QNode::New(m1), SQUARE_A2),
+            (2, QNode::New(t1), QNode::New(m2), SQUARE_A2),
         ];
         let mut made = 0;
         let mut m1_fv = None;
@@ -281,7 +272,7 @@ impl Mesher<'_> {
                 m1_fv = Some(l.n4);
             }
             let (n3, act) = match (k, step) {
-                (0, Some(_)) => (n3, dummy_a2.clone()),
+                (0, Some(_)) => (n3, SQUARE_A2),
                 (2, Some(_)) => (QNode::Front(l.n5), Action::A3),
                 _ => (n3, act),
             };
@@ -308,6 +299,12 @@ impl Mesher<'_> {
             }
         }
         Ok(made > 0)
+    }
+
+    /// The occurrence `fv` if its node is within `near` of `at` (a step's
+    /// top where a template would put its own corner).
+    fn node_near(&self, fv: Fv, at: DVec2, near: f64) -> Option<Fv> {
+        ((self.pm.pos(fv) - at).length() <= near).then_some(fv)
     }
 
     /// Whether a transition's four elements all pass the validity check
