@@ -122,6 +122,10 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 % block_arc_step: the layout divides arcs in steps of at most this many
 %   deg, so that a block's corners measured along an arc stay near the
 %   layout's, measured along the chord.
+% four_sided_pairs: with --blocks, a domain of four sides whose opposite
+%   sides' segment counts differ is also meshed in mapped patches round
+%   at most this many pairs of irregular nodes, one of valence 3 and one
+%   of 5 (the paper's Fig. 18 without free elements); 0: never.
 % fallback_reopen_rings: where the rules' elements lost a boundary or line
 %   segment (no element has it as an edge), the elements within this many
 %   rings of it, and those across it, are meshed again by triangles split
@@ -174,6 +178,7 @@ bound(refine_ratio, 0).
 bound(uniform_size_band, 0).
 bound(block_size, 4).
 bound(block_arc_step, 45).
+bound(four_sided_pairs, 2).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).

@@ -214,6 +214,14 @@ pub struct RunBoundary {
     jump: f64,
 }
 
+impl RunBoundary {
+    /// The boundary's nodes and edges, and the initial loops (domain on
+    /// the left).
+    pub(crate) fn parts(&self) -> (&Mesh, &[Vec<u32>]) {
+        (&self.disc.mesh, &self.disc.front_loops)
+    }
+}
+
 /// Discretises a domain's boundary with boundary size `size` (the
 /// domain's own when None) and draws the cutting lines, with the built-in
 /// `thin_wall` and `max_size_jump` bounds (a run whose KB sets others

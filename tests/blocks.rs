@@ -71,6 +71,15 @@ fn a_rectangle_with_equal_opposite_sides_is_one_structured_grid() {
         "outer": { "points": [[0, 0], [12, 0], [12, 5], [0, 5]] }
     }));
     let mut kb = KnowledgeBase::builtin().unwrap();
+    // four sides of 24, 10, 24 and 10 segments: one patch, one grid
+    let whole = in_blocks(&mut kb, &d);
+    assert_eq!(irregular(&whole), 0);
+    assert_eq!(whole.stats.blocks, 1, "{:?}", whole.stats);
+    assert_eq!(whole.trace[0].action, "four_sided(0)");
+    assert_eq!(whole.mesh.quads().len(), 240);
+    within_the_bounds(&whole, "plate");
+    // the layout's blocks (the patches off): a grid all the same
+    kb.consult_file("tests/kb/no-four-sided-pairs.pl").unwrap();
     let r = in_blocks(&mut kb, &d);
     assert_eq!(irregular(&r), 0);
     assert!(r.stats.blocks > 1, "{:?}", r.stats);
@@ -125,9 +134,11 @@ fn blocks_leave_far_fewer_irregular_nodes_than_the_free_mesh_and_the_trace_shows
 fn blocks_whose_opposite_sides_cannot_agree_are_meshed_free_inside_the_layout() {
     // sides fixed at 12/4/6/2: the blocks along the top and left sides
     // cannot be mapping elements (the paper's Fig. 18); the rules mesh
-    // them, the others stay mapped
+    // them, the others stay mapped (the four-sided patches, which take
+    // this domain first, turned off)
     let d = load("../shared/bench/domains/mapping-unequal.json");
     let mut kb = KnowledgeBase::builtin().unwrap();
+    kb.consult_file("tests/kb/no-four-sided-pairs.pl").unwrap();
     let blocks = in_blocks(&mut kb, &d);
     let free = mesh_domain(&d, &mut kb, &Options::default(), &mut |_| {}).unwrap();
     assert!(blocks.stats.blocks > 0, "{:?}", blocks.stats);
@@ -160,6 +171,72 @@ fn blocks_whose_opposite_sides_cannot_agree_are_meshed_free_inside_the_layout() 
     // Gmsh's quasi-structured mesh of it has 4 (tests/outside/blocks_vs_gmsh.py);
     // ours had 4 until rd_unmerge changed how the free region's fronts meet
     assert!(irregular(&blocks) <= 5, "{}", irregular(&blocks));
+    assert!(
+        blocks.trace[0].action.starts_with("layout("),
+        "{:?}",
+        blocks.trace[0]
+    );
+}
+
+#[test]
+fn four_sides_whose_opposite_sides_differ_are_patches_round_pairs_of_irregular_nodes() {
+    // 12/4/6/2: cut by a chord into two patches, each with one pair (a
+    // node of valence 3 and one of 5), six grids round it; 14/3/6/5 the
+    // same. Every other interior node is regular.
+    for (path, gmsh_qs) in [
+        ("../shared/bench/domains/mapping-unequal.json", 4),
+        ("../shared/bench/hard/mapping-14-3-6-5.json", 2),
+    ] {
+        let d = load(path);
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let r = in_blocks(&mut kb, &d);
+        assert_eq!(
+            r.trace[0].action, "four_sided(2)",
+            "{path}: {:?}",
+            r.trace[0]
+        );
+        assert!(
+            r.trace[0].redesign[0].starts_with("four sides in patches round 2 pairs"),
+            "{path}: {:?}",
+            r.trace[0]
+        );
+        let steps = block_steps(&r);
+        assert_eq!(steps.len(), 1 + 12, "{path}: {steps:?}");
+        assert!(steps[1..].iter().all(|t| t.action.starts_with("map(")));
+        assert_eq!(r.stats.blocks, 12);
+        within_the_bounds(&r, path);
+        // the pairs are all: four irregular nodes (Gmsh's quasi-structured
+        // mesh: 4 and 2; the layouts gave 5 and 8)
+        assert_eq!(irregular(&r), 4, "{path} (Gmsh QS {gmsh_qs})");
+        // the fixed counts kept
+        let segments: usize = d
+            .chains()
+            .flat_map(|c| &c.edges)
+            .map(|e| e.segments.unwrap())
+            .sum();
+        assert_eq!(r.mesh.boundary().len(), segments);
+    }
+}
+
+#[test]
+fn the_kb_turns_the_four_sided_patches_off() {
+    let d = load("../shared/bench/hard/mapping-14-3-6-5.json");
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    kb.consult_file("tests/kb/no-four-sided-pairs.pl").unwrap();
+    let r = in_blocks(&mut kb, &d);
+    assert!(
+        !r.trace[0].action.starts_with("four_sided"),
+        "{:?}",
+        r.trace[0]
+    );
+    assert!(
+        r.trace[0]
+            .redesign
+            .iter()
+            .all(|w| !w.starts_with("four sides")),
+        "{:?}",
+        r.trace[0]
+    );
 }
 
 #[test]
@@ -191,6 +268,8 @@ fn the_layout_size_is_the_kbs_bound() {
         "outer": { "points": [[0, 0], [12, 0], [12, 6], [0, 6]] }
     }));
     let mut kb = KnowledgeBase::builtin().unwrap();
+    // (a rectangle is one patch unless the four-sided patches are off)
+    kb.consult_file("tests/kb/no-four-sided-pairs.pl").unwrap();
     let coarse = in_blocks(&mut kb, &d).stats.blocks;
     kb.consult_file("tests/kb/block-size-2.pl").unwrap();
     let finer = in_blocks(&mut kb, &d).stats.blocks;

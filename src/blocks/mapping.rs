@@ -161,43 +161,63 @@ pub fn mesh_blocks(
         if top.len() != n + 1 || left.len() != m + 1 {
             return None; // opposite sides disagree: not a mapping element
         }
-        let at =
-            |ids: &[u32]| -> Vec<DVec2> { ids.iter().map(|&i| mesh.nodes[i as usize]).collect() };
-        let (pb, pt, pl, pr) = (at(&bottom), at(&top), at(&left), at(&right));
-        let corner = [pb[0], pb[n], pt[n], pt[0]];
-        let mut grid = vec![vec![0u32; m + 1]; n + 1];
-        for i in 0..=n {
-            for j in 0..=m {
-                grid[i][j] = if j == 0 {
-                    bottom[i]
-                } else if j == m {
-                    top[i]
-                } else if i == 0 {
-                    left[j]
-                } else if i == n {
-                    right[j]
-                } else {
-                    let (u, v) = (i as f64 / n as f64, j as f64 / m as f64);
-                    let at = (1.0 - v) * pb[i] + v * pt[i] + (1.0 - u) * pl[j] + u * pr[j]
-                        - ((1.0 - u) * (1.0 - v) * corner[0]
-                            + u * (1.0 - v) * corner[1]
-                            + u * v * corner[2]
-                            + (1.0 - u) * v * corner[3]);
-                    mesh.add_node(at, NodeKind::Interior)
-                };
-            }
-        }
-        for i in 0..n {
-            for j in 0..m {
-                mesh.quads.push([
-                    grid[i][j],
-                    grid[i + 1][j],
-                    grid[i + 1][j + 1],
-                    grid[i][j + 1],
-                ]);
-                mesh.blocks.push(bi as u32);
-            }
+        for q in coons_grid(&mut mesh, &bottom, &right, &top, &left) {
+            mesh.quads.push(q);
+            mesh.blocks.push(bi as u32);
         }
     }
     Some((mesh, edge_nodes))
+}
+
+/// The structured grid of a mapping element by transfinite interpolation
+/// (a Coons patch) of its sides' nodes: `bottom` from corner 0 to corner
+/// 1, `right` from 1 to 2, `top` from 3 to 2, `left` from 0 to 3 (opposite
+/// sides have the same count); its quads, counter-clockwise, the inner
+/// nodes added to `mesh`.
+pub fn coons_grid(
+    mesh: &mut Mesh,
+    bottom: &[u32],
+    right: &[u32],
+    top: &[u32],
+    left: &[u32],
+) -> Vec<[u32; 4]> {
+    let (n, m) = (bottom.len() - 1, right.len() - 1);
+    debug_assert!(top.len() == n + 1 && left.len() == m + 1);
+    let at = |ids: &[u32]| -> Vec<DVec2> { ids.iter().map(|&i| mesh.nodes[i as usize]).collect() };
+    let (pb, pt, pl, pr) = (at(bottom), at(top), at(left), at(right));
+    let corner = [pb[0], pb[n], pt[n], pt[0]];
+    let mut grid = vec![vec![0u32; m + 1]; n + 1];
+    for i in 0..=n {
+        for j in 0..=m {
+            grid[i][j] = if j == 0 {
+                bottom[i]
+            } else if j == m {
+                top[i]
+            } else if i == 0 {
+                left[j]
+            } else if i == n {
+                right[j]
+            } else {
+                let (u, v) = (i as f64 / n as f64, j as f64 / m as f64);
+                let at = (1.0 - v) * pb[i] + v * pt[i] + (1.0 - u) * pl[j] + u * pr[j]
+                    - ((1.0 - u) * (1.0 - v) * corner[0]
+                        + u * (1.0 - v) * corner[1]
+                        + u * v * corner[2]
+                        + (1.0 - u) * v * corner[3]);
+                mesh.add_node(at, NodeKind::Interior)
+            };
+        }
+    }
+    let mut quads = Vec::with_capacity(n * m);
+    for i in 0..n {
+        for j in 0..m {
+            quads.push([
+                grid[i][j],
+                grid[i + 1][j],
+                grid[i + 1][j + 1],
+                grid[i][j + 1],
+            ]);
+        }
+    }
+    quads
 }

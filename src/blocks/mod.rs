@@ -14,6 +14,7 @@
 //! is meshed free by the rules at its size; the trace's first step says
 //! which mesh was kept and what each layout gave.
 
+mod four_sided;
 mod free_blocks;
 pub mod intervals;
 mod mapping;
@@ -49,10 +50,27 @@ pub fn mesh_in_blocks(
     let mut tried: Vec<String> = Vec::new();
     // the layouts first (coarse: cheap), then the block meshes finished
     // in order of their irregular nodes until one is within the bounds
-    let mut candidates: Vec<(usize, f64, Outcome)> = Vec::new();
+    // each candidate: its irregular nodes, what the trace calls it, and
+    // the words its line in the trace starts with, its place among equals
+    // (the coarser layout first)
+    let mut candidates: Vec<(usize, String, String, f64, Outcome)> = Vec::new();
     if domain.lines.iter().any(|l| l.crack) {
         tried.push("a domain with cracks is meshed free".into());
     } else {
+        let max_pairs = settings.host.four_sided_pairs as usize;
+        if max_pairs > 0 {
+            match four_sided::outcome(domain, size, max_pairs, &settings.element) {
+                None => {}
+                Some(Err(why)) => tried.push(why),
+                Some(Ok((o, pairs))) => candidates.push((
+                    irregular_nodes(&o.mesh),
+                    format!("four_sided({pairs})"),
+                    format!("four sides in patches round {pairs} pairs of irregular nodes"),
+                    f64::INFINITY,
+                    o,
+                )),
+            }
+        }
         for step in LAYOUT_STEPS {
             let factor = settings.host.block_size * step;
             if step < 1.0 && factor < 1.5 {
@@ -72,13 +90,19 @@ pub fn mesh_in_blocks(
             };
             match outcome {
                 Err(why) => tried.push(format!("blocks of {factor} element sizes: {why}")),
-                Ok(o) => candidates.push((irregular_nodes(&o.mesh), factor, o)),
+                Ok(o) => candidates.push((
+                    irregular_nodes(&o.mesh),
+                    format!("layout({factor})"),
+                    format!("blocks of {factor} element sizes"),
+                    factor,
+                    o,
+                )),
             }
         }
     }
-    candidates.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-    let mut best: Option<(Score, MeshResult, f64)> = None;
-    for (_, factor, outcome) in candidates {
+    candidates.sort_by(|a, b| a.0.cmp(&b.0).then(b.3.total_cmp(&a.3)));
+    let mut best: Option<(Score, MeshResult, String)> = None;
+    for (_, name, words, _, outcome) in candidates {
         let kb_after = kb.stats;
         let r = match finish_mesh(outcome, &settings.element, opts, kb_before, kb_after) {
             Ok(mut r) => {
@@ -88,35 +112,35 @@ pub fn mesh_in_blocks(
             // a block mesh that fails the mesh check is not kept (the
             // next layout, or the free mesh, is)
             Err(Error::Check(e)) => {
-                tried.push(format!("blocks of {factor} element sizes: {e}"));
+                tried.push(format!("{words}: {e}"));
                 continue;
             }
             Err(e) => return Err(e),
         };
         let score = Score::of(&r, &settings.element, domain);
         tried.push(format!(
-            "blocks of {factor} element sizes: {} elements out of bounds, {} irregular nodes",
+            "{words}: {} elements out of bounds, {} irregular nodes",
             score.outside, score.irregular
         ));
         let within = score.outside == 0;
         if best.as_ref().is_none_or(|(b, _, _)| score < *b) {
-            best = Some((score, r, factor));
+            best = Some((score, r, name));
         }
         if within {
             break;
         }
     }
-    if let Some((b, r, factor)) = best.take() {
+    if let Some((b, r, name)) = best.take() {
         if b.outside == 0 {
             progress(r.mesh.quads.len());
-            return Ok(with_first_step(r, &format!("layout({factor})"), tried));
+            return Ok(with_first_step(r, &name, tried));
         }
-        best = Some((b, r, factor));
+        best = Some((b, r, name));
     }
     let free = mesh_domain(domain, kb, opts, progress)?;
     let score = Score::of(&free, &settings.element, domain);
-    if let Some((_, r, factor)) = best.filter(|(b, _, _)| *b < score) {
-        return Ok(with_first_step(r, &format!("layout({factor})"), tried));
+    if let Some((_, r, name)) = best.filter(|(b, _, _)| *b < score) {
+        return Ok(with_first_step(r, &name, tried));
     }
     tried.push(format!(
         "free: {} elements out of bounds, {} irregular nodes",
