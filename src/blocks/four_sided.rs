@@ -109,6 +109,8 @@ pub fn outcome(
     if !domain.holes.is_empty() || !domain.lines.is_empty() || domain.outer.edges.len() != 4 {
         return None;
     }
+    // (discretised with the built-in thin_wall and max_size_jump bounds:
+    // a KB that sets others changes the layouts' runs, not these counts)
     let boundary = discretise_for_run(domain, Some(size)).ok()?;
     let (disc, loops) = boundary.parts();
     let [ring] = loops else { return None };
@@ -168,9 +170,9 @@ pub fn outcome(
         (a.0, a.1) < (b.0, b.1) || ((a.0, a.1) == (b.0, b.1) && a.2 < b.2)
     };
     let mut ranked: Vec<Trial> = Vec::new();
-    let mut smoothed = 0;
+    let mut meshed = 0;
     for (plan, pairs) in plans(n, corner, size, max_pairs, PLANS_TRIED) {
-        if smoothed > TRIAL_QUADS {
+        if meshed > TRIAL_QUADS {
             break;
         }
         for split in SHARES
@@ -185,7 +187,7 @@ pub fn outcome(
                 .collect();
             let mut trial = mesh.clone();
             plain_laplace(&mut trial, 20);
-            smoothed += trial.quads.len();
+            meshed += trial.quads.len();
             ranked.push((key_of(&trial, pairs), mesh, patches, pairs));
             if matches!(plan, Plan::Whole) && pairs == 0 {
                 break; // a grid has no split
