@@ -36,7 +36,6 @@ use crate::mesh::{Mesh, NodeKind};
 use crate::partial_mesh::MeshStats;
 use crate::pipeline::discretise_for_run;
 use crate::recursion::Outcome;
-use crate::report::trace::{By, TraceStep};
 use crate::settings::ElementBounds;
 
 /// How many plans are meshed on a copy to choose from.
@@ -80,13 +79,7 @@ fn shape(mesh: &Mesh, bounds: &ElementBounds) -> (usize, f64) {
     let mut worst: f64 = 1.0;
     for q in &mesh.quads {
         let p = q.map(|i| mesh.nodes[i as usize]);
-        let e: [f64; 4] = std::array::from_fn(|i| (p[(i + 1) % 4] - p[i]).length());
-        let taper = (e[0] / e[2])
-            .max(e[2] / e[0])
-            .max((e[1] / e[3]).max(e[3] / e[1]));
-        let m02 = ((p[0] + p[1]) - (p[2] + p[3])).length();
-        let m13 = ((p[1] + p[2]) - (p[3] + p[0])).length();
-        let aspect = (m02 / m13).max(m13 / m02);
+        let (aspect, taper) = crate::element_quality::aspect_taper(p);
         let bad = crate::element_quality::badness(p, bounds) > 0.0
             || aspect > bounds.max_aspect
             || taper > bounds.max_taper;
@@ -161,13 +154,23 @@ pub fn outcome(
     // Laplace (cheap): fewest elements out of bounds, fewer pairs, the
     // better worst shape; the first few smoothed as a run smooths and the
     // best of those kept
-    type Trial = ((usize, usize, f64), Mesh, Vec<Patch>, usize);
+    // (elements out of bounds, pairs, worst aspect or taper): less is better
+    type Key = (usize, usize, f64);
+    type Trial = (Key, Mesh, Vec<Patch>, usize);
     let key_of = |m: &Mesh, pairs: usize| {
         let (outside, worst) = shape(m, bounds);
         (outside, pairs, worst)
     };
-    let better = |a: &(usize, usize, f64), b: &(usize, usize, f64)| {
-        (a.0, a.1) < (b.0, b.1) || ((a.0, a.1) == (b.0, b.1) && a.2 < b.2)
+    let order = |a: &Key, b: &Key| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2));
+    // each trial's mesh is the boundary with the patches' inner nodes; its
+    // quads are the patches'
+    let with_quads = |mesh: &Mesh, patches: &[Patch]| {
+        let mut m = mesh.clone();
+        m.quads = patches
+            .iter()
+            .flat_map(|p| p.quads.iter().copied())
+            .collect();
+        m
     };
     let mut ranked: Vec<Trial> = Vec::new();
     let mut meshed = 0;
@@ -181,11 +184,7 @@ pub fn outcome(
         {
             let mut mesh = disc.clone();
             let patches = mesh_plan(&mut mesh, sides.clone(), plan, split);
-            mesh.quads = patches
-                .iter()
-                .flat_map(|p| p.quads.iter().copied())
-                .collect();
-            let mut trial = mesh.clone();
+            let mut trial = with_quads(&mesh, &patches);
             plain_laplace(&mut trial, 20);
             meshed += trial.quads.len();
             ranked.push((key_of(&trial, pairs), mesh, patches, pairs));
@@ -194,25 +193,24 @@ pub fn outcome(
             }
         }
     }
-    ranked.sort_by(|a, b| {
-        if better(&a.0, &b.0) {
-            std::cmp::Ordering::Less
-        } else if better(&b.0, &a.0) {
-            std::cmp::Ordering::Greater
-        } else {
-            std::cmp::Ordering::Equal
-        }
-    });
-    let mut best: Option<Trial> = None;
-    for (_, mut mesh, patches, pairs) in ranked.into_iter().take(SMOOTHED_TRIALS) {
-        let mut trial = mesh.clone();
-        crate::smoothing::smooth(&mut trial, 20, bounds);
-        let key = key_of(&trial, pairs);
-        if best.as_ref().is_none_or(|b| better(&key, &b.0)) {
-            mesh.quads.clear();
-            best = Some((key, mesh, patches, pairs));
-        }
-    }
+    // (a stable sort: equals stay in the order they were tried)
+    ranked.sort_by(|a, b| order(&a.0, &b.0));
+    let best = ranked
+        .into_iter()
+        .take(SMOOTHED_TRIALS)
+        .map(|(_, mesh, patches, pairs)| {
+            let mut trial = with_quads(&mesh, &patches);
+            crate::smoothing::smooth(&mut trial, 20, bounds);
+            (key_of(&trial, pairs), mesh, patches, pairs)
+        })
+        // the first of equals, as before
+        .reduce(|best, t| {
+            if order(&t.0, &best.0).is_lt() {
+                t
+            } else {
+                best
+            }
+        });
     let Some(((outside, ..), mut mesh, patches, pairs)) = best else {
         return Some(Err(format!(
             "four sides of {}, {}, {} and {} segments: no patches round at most {max_pairs} pairs of irregular nodes",
@@ -232,17 +230,7 @@ pub fn outcome(
         mesh.quads.extend(&p.quads);
         mesh.blocks
             .extend(std::iter::repeat_n(b as u32, p.quads.len()));
-        let q = p.quads[0];
-        trace.push(TraceStep {
-            step: 0,
-            edge: [q[0] as i64, q[1] as i64],
-            angles: Default::default(),
-            feature: "block".into(),
-            action: format!("map({}, {})", p.counts[0], p.counts[1]),
-            by: By::Block,
-            redesign: vec![],
-            element: q.iter().map(|&x| x as i64).collect(),
-        });
+        trace.push(super::map_step(p.quads[0], p.counts));
     }
     super::renumber(&mut trace);
     let stats = MeshStats {

@@ -50,9 +50,9 @@ pub fn mesh_in_blocks(
     let mut tried: Vec<String> = Vec::new();
     // the layouts first (coarse: cheap), then the block meshes finished
     // in order of their irregular nodes until one is within the bounds
-    // each candidate: its irregular nodes, what the trace calls it, and
-    // the words its line in the trace starts with, its place among equals
-    // (the coarser layout first)
+    // each candidate: its irregular nodes, its action in the trace's first
+    // step, the words its line in that step starts with, and its place
+    // among equals (the four-sided patches, then the coarser layout first)
     let mut candidates: Vec<(usize, String, String, f64, Outcome)> = Vec::new();
     if domain.lines.iter().any(|l| l.crack) {
         tried.push("a domain with cracks is meshed free".into());
@@ -413,17 +413,7 @@ fn blocks_of(
             continue;
         }
         let s = chords.sides[bi];
-        let (n, m) = (edge_counts[s[0]], edge_counts[s[1]]);
-        trace.push(TraceStep {
-            step: 0,
-            edge: [q[0] as i64, q[1] as i64],
-            angles: Default::default(),
-            feature: "block".into(),
-            action: format!("map({n}, {m})"),
-            by: By::Block,
-            redesign: vec![],
-            element: q.iter().map(|&x| x as i64).collect(),
-        });
+        trace.push(map_step(*q, [edge_counts[s[0]], edge_counts[s[1]]]));
     }
     renumber(&mut trace);
     let mut stats = layout.stats;
@@ -436,6 +426,22 @@ fn blocks_of(
         vetoes: layout.vetoes,
         stats,
     })
+}
+
+/// The trace's step for a block meshed as a mapping element: `block ->
+/// map(N, M)` over its corners `q` (N segments along its first side, M
+/// along its second).
+fn map_step(q: [u32; 4], counts: [usize; 2]) -> TraceStep {
+    TraceStep {
+        step: 0,
+        edge: [q[0] as i64, q[1] as i64],
+        angles: Default::default(),
+        feature: "block".into(),
+        action: format!("map({}, {})", counts[0], counts[1]),
+        by: By::Block,
+        redesign: vec![],
+        element: q.iter().map(|&x| x as i64).collect(),
+    }
 }
 
 /// The blocks numbered from 0 without gaps, in their order, once the mesh
