@@ -271,6 +271,14 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     if domains.len() == 1 {
         // the domain is read and its boundary made ready while the engine
         // loads (the engine cannot move between threads; these can)
+        // one domain: a core to spare answers part of the KB's questions,
+        // with an engine built while the first one is
+        let second = std::thread::available_parallelism()
+            .is_ok_and(|n| n.get() > 1)
+            .then(|| {
+                let files = args.kb.iter().map(|f| f.to_string_lossy().into_owned());
+                KnowledgeBase::second_engine_loading(files.collect())
+            });
         let (kb, early) = std::thread::scope(|scope| {
             let early = scope.spawn(|| read_and_discretise(&domains[0], &args));
             let kb = load_kb(&args.kb);
@@ -281,9 +289,8 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
         });
         let early = early?;
         let mut kb = kb?;
-        // one domain: a core to spare answers part of the KB's questions
-        if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
-            kb.start_second_engine();
+        if let Some(second) = second {
+            kb.take_second_engine(second);
         }
         let done = mesh_one(&domains[0], Some(early), &planned[0], &mut kb, &args, true);
         // The engine's heap is large after a big run and the process ends
@@ -578,6 +585,13 @@ fn mesh_one(
             );
         }
         let ph = &result.phases;
+        if ph.blocks > 0.0 {
+            eprintln!(
+                "{}: blocks {:.3} s (the layouts, their block meshes, and the finishing of those not kept)",
+                domain.name(),
+                ph.blocks
+            );
+        }
         eprintln!(
             "{}: engine start {:.3} s (before the run: built, rules consulted); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
             domain.name(),
@@ -586,7 +600,7 @@ fn mesh_one(
             ph.recursion,
             ph.smoothing,
             ph.check,
-            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check
+            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check - ph.blocks
         );
     }
     Ok(())

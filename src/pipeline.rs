@@ -199,6 +199,10 @@ pub struct Phases {
     pub smoothing: f64,
     /// The mesh's check and quality figures.
     pub check: f64,
+    /// With `--blocks`: the layouts, their block meshes, and the
+    /// finishing of those not kept (the kept one's is in smoothing and
+    /// check).
+    pub blocks: f64,
 }
 
 /// A domain's boundary made ready for a run: discretised, the cutting

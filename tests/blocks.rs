@@ -131,6 +131,25 @@ fn blocks_leave_far_fewer_irregular_nodes_than_the_free_mesh_and_the_trace_shows
 }
 
 #[test]
+fn a_layout_made_by_the_second_engine_gives_the_same_mesh_and_trace() {
+    let d = load("../shared/bench/domains/fig1-polygon.json");
+    let mut alone = KnowledgeBase::builtin().unwrap();
+    let one = in_blocks(&mut alone, &d);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    kb.start_second_engine();
+    assert!(kb.wait_for_second_engine(std::time::Duration::from_secs(120)));
+    let two = in_blocks(&mut kb, &d);
+    assert!(
+        kb.stats().second_engine_queries > 0,
+        "the second engine took part"
+    );
+    assert_eq!(one.mesh.nodes(), two.mesh.nodes());
+    assert_eq!(one.mesh.quads(), two.mesh.quads());
+    let text = |r: &MeshResult| format!("{:?}", r.trace);
+    assert_eq!(text(&one), text(&two));
+}
+
+#[test]
 fn blocks_whose_opposite_sides_cannot_agree_are_meshed_free_inside_the_layout() {
     // sides fixed at 12/4/6/2: the blocks along the top and left sides
     // cannot be mapping elements (the paper's Fig. 18); the rules mesh

@@ -44,6 +44,7 @@ pub fn mesh_in_blocks(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
+    let started = std::time::Instant::now();
     let settings = kb.settings()?;
     let size = opts.size.unwrap_or(domain.size());
     let kb_before = kb.stats;
@@ -71,23 +72,36 @@ pub fn mesh_in_blocks(
                 )),
             }
         }
-        for step in LAYOUT_STEPS {
-            let factor = settings.host.block_size * step;
-            if step < 1.0 && factor < 1.5 {
-                break;
+        // the layouts' sizes; the finest (most elements) made by the
+        // second engine, when one is waiting, while this one makes the others
+        let factors: Vec<f64> = LAYOUT_STEPS
+            .iter()
+            .map(|step| settings.host.block_size * step)
+            .enumerate()
+            .take_while(|&(k, factor)| k == 0 || factor >= 1.5)
+            .map(|(_, factor)| factor)
+            .collect();
+        let arc_step = settings.host.block_arc_step.to_radians();
+        let elsewhere = match factors.split_last() {
+            Some((&finest, rest)) if !rest.is_empty() => {
+                let (d, o) = (domain.clone(), opts.clone());
+                kb.on_second_engine(move |kb| block_layout(&d, kb, &o, size, finest, arc_step))
             }
-            let coarse = size * factor;
-            let layout_opts = Options {
-                size: Some(coarse),
-                max_size: Some(coarse),
-                ..opts.clone()
-            };
-            let arc_step = settings.host.block_arc_step.to_radians();
-            let layout_domain = layout_for(domain, coarse, arc_step);
-            let outcome = match layout(&layout_domain, kb, &layout_opts) {
-                Err(why) => Err(why),
-                Ok(layout) => blocks_of(layout, domain, size, kb, opts.trace),
-            };
+            _ => None,
+        };
+        let here = factors.len() - usize::from(elsewhere.is_some());
+        let mut made: Vec<Result<Outcome, String>> = factors[..here]
+            .iter()
+            .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step))
+            .collect();
+        if let Some(rx) = elsewhere {
+            let finest = factors[here];
+            made.push(match kb.take_from_second_engine(rx) {
+                Some(r) => r,
+                None => block_layout(domain, kb, opts, size, finest, arc_step),
+            });
+        }
+        for (factor, outcome) in factors.into_iter().zip(made) {
             match outcome {
                 Err(why) => tried.push(format!("blocks of {factor} element sizes: {why}")),
                 Ok(o) => candidates.push((
@@ -130,18 +144,26 @@ pub fn mesh_in_blocks(
             break;
         }
     }
-    if let Some((b, r, name)) = best.take() {
+    // the time not spent on the kept mesh's own finishing
+    let blocks_time = |r: &MeshResult| {
+        started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check
+    };
+    if let Some((b, mut r, name)) = best.take() {
         if b.outside == 0 {
             progress(r.mesh.quads.len());
+            r.phases.blocks = blocks_time(&r);
             return Ok(with_first_step(r, &name, tried));
         }
         best = Some((b, r, name));
     }
-    let free = mesh_domain(domain, kb, opts, progress)?;
+    let before_free = started.elapsed().as_secs_f64();
+    let mut free = mesh_domain(domain, kb, opts, progress)?;
     let score = Score::of(&free, &settings.element, domain);
-    if let Some((_, r, name)) = best.filter(|(b, _, _)| *b < score) {
+    if let Some((_, mut r, name)) = best.filter(|(b, _, _)| *b < score) {
+        r.phases.blocks = blocks_time(&r);
         return Ok(with_first_step(r, &name, tried));
     }
+    free.phases.blocks = before_free;
     tried.push(format!(
         "free: {} elements out of bounds, {} irregular nodes",
         score.outside, score.irregular
@@ -260,6 +282,28 @@ fn renumber(trace: &mut [TraceStep]) {
     for (k, t) in trace.iter_mut().enumerate() {
         t.step = k + 1;
     }
+}
+
+/// The blocks of a layout of `factor` element sizes, each meshed as a
+/// mapping element (or the free blocks by the rules), or why there are
+/// none.
+fn block_layout(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    size: f64,
+    factor: f64,
+    arc_step: f64,
+) -> Result<Outcome, String> {
+    let coarse = size * factor;
+    let layout_opts = Options {
+        size: Some(coarse),
+        max_size: Some(coarse),
+        ..opts.clone()
+    };
+    let layout_domain = layout_for(domain, coarse, arc_step);
+    let made = layout(&layout_domain, kb, &layout_opts)?;
+    blocks_of(made, domain, size, kb, opts.trace)
 }
 
 /// The layout: `domain` meshed by the rules at the coarse size of

@@ -12,7 +12,7 @@
 use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, OutputStreamConfig, StreamConfig, Term};
 
 use crate::kb::error::KbError;
-use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
+use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine, Task};
 use crate::kb::terms::{
     self, atom_or_text, binding_pair, fault_to_error, term_number, term_text, user_query_question,
 };
@@ -316,14 +316,28 @@ impl KnowledgeBase {
     /// a core to spare and a run of more than a fraction of a second.
     pub fn start_second_engine(&mut self) {
         let user_files = self.files[BUILTIN_KB.len()..].to_vec();
+        self.second = Some(Self::second_engine_loading(user_files).0);
+    }
+
+    /// A second engine that starts loading now, on its own thread, with
+    /// the built-in rules and `user_files` (as `consult_file` is given
+    /// them): a caller with a core to spare builds it while the first
+    /// engine loads, then hands it over with `take_second_engine`.
+    pub fn second_engine_loading(user_files: Vec<String>) -> SecondEngineLoading {
         // the engine is built on the thread that uses it (it cannot move)
-        self.second = Some(SecondEngine::start(move || {
+        SecondEngineLoading(SecondEngine::start(move || {
             let mut kb = KnowledgeBase::builtin().ok()?;
             for f in &user_files {
                 kb.consult_file(f).ok()?;
             }
             Some(Box::new(kb) as Box<dyn Answerer>)
-        }));
+        }))
+    }
+
+    /// Takes a second engine started by `second_engine_loading` (with the
+    /// same user files as this one's) to answer part of each batch.
+    pub fn take_second_engine(&mut self, second: SecondEngineLoading) {
+        self.second = Some(second.0);
     }
 
     /// Waits until the second engine is loaded; false if there is none,
@@ -338,6 +352,43 @@ impl KnowledgeBase {
             }
         }
         false
+    }
+
+    /// Hands `task` to the second engine when one is loaded and waiting
+    /// (None: there is none, or it is not ready yet; the caller does the
+    /// work itself). The task's questions are counted with the second
+    /// engine's when its result is taken by `take_from_second_engine`.
+    pub(crate) fn on_second_engine<R: Send + 'static>(
+        &mut self,
+        task: impl FnOnce(&mut KnowledgeBase) -> R + Send + 'static,
+    ) -> Option<std::sync::mpsc::Receiver<(R, KbStats)>> {
+        if !self.second_engine_ready() {
+            return None;
+        }
+        let second = self.second.as_ref()?;
+        Some(second.spawn(move |kb| {
+            let before = kb.stats;
+            let r = task(kb);
+            let mut used = kb.stats;
+            used.engine_queries -= before.engine_queries;
+            used.cached_queries -= before.cached_queries;
+            used.engine_time -= before.engine_time;
+            (r, used)
+        }))
+    }
+
+    /// The result of a task handed to the second engine, its questions
+    /// counted as the second engine's (None: the engine was lost).
+    pub(crate) fn take_from_second_engine<R>(
+        &mut self,
+        rx: std::sync::mpsc::Receiver<(R, KbStats)>,
+    ) -> Option<R> {
+        let (r, used) = rx.recv().ok()?;
+        self.stats.engine_queries += used.engine_queries;
+        self.stats.cached_queries += used.cached_queries;
+        self.stats.second_engine_queries += used.engine_queries;
+        self.stats.second_engine_time += used.engine_time;
+        Some(r)
     }
 
     /// Whether a second engine is loaded and answering.
@@ -451,9 +502,16 @@ impl KnowledgeBase {
     }
 }
 
+/// A second engine on its way (`KnowledgeBase::second_engine_loading`).
+pub struct SecondEngineLoading(SecondEngine);
+
 impl Answerer for KnowledgeBase {
     fn answer(&mut self, (query, context): &Question) -> Answer {
         self.ask_bounded_fresh(query, context)
+    }
+
+    fn run_task(&mut self, task: Task) {
+        task(self)
     }
 }
 
@@ -530,6 +588,27 @@ mod tests {
                 "the second engine never answered"
             );
         }
+    }
+
+    #[test]
+    fn a_task_on_the_second_engine_sees_the_users_rules_and_is_counted() {
+        let file = std::env::temp_dir().join(format!("fm-task-{}.pl", std::process::id()));
+        std::fs::write(&file, "task_probe(42).\n").unwrap();
+        let name = file.to_string_lossy().into_owned();
+        let second = KnowledgeBase::second_engine_loading(vec![name.clone()]);
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.consult_file(&name).unwrap();
+        kb.take_second_engine(second);
+        assert!(kb.wait_for_second_engine(std::time::Duration::from_secs(60)));
+        let before = kb.stats;
+        let rx = kb
+            .on_second_engine(|kb| kb.ask_cached("task_probe(X).", "X").unwrap())
+            .expect("a ready second engine takes the task");
+        let answer = kb.take_from_second_engine(rx).expect("its result comes back");
+        let _ = std::fs::remove_file(&file);
+        assert_eq!(answer.map(|t| term_text(&t)), Some("42".to_string()));
+        assert_eq!(kb.stats.engine_queries, before.engine_queries + 1);
+        assert_eq!(kb.stats.second_engine_queries, before.second_engine_queries + 1);
     }
 
     #[test]

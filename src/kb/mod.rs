@@ -13,7 +13,7 @@ mod second_engine;
 mod terms;
 mod vocabulary;
 
-pub use engine::{KbStats, KnowledgeBase, More, UserAnswer};
+pub use engine::{KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
 pub use error::KbError;
 pub use vocabulary::{
     Action, Context, Corner, Designed, ElementEdge, ElementNode, FrontFacts, PatternKind,

@@ -8,6 +8,10 @@
 //! The thread builds its engine itself (an engine is not sent between
 //! threads) while the first one starts meshing; until it is ready, and
 //! whenever it is slow to wake, the first engine answers everything.
+//!
+//! It also takes whole tasks that need an engine of their own (with
+//! `--blocks`, one of the layouts): the task runs there while the first
+//! engine does other work, and its result comes back by a channel.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
@@ -29,6 +33,18 @@ pub type Answer = Result<Option<Term>, KbError>;
 pub trait Answerer {
     /// The answer to one question.
     fn answer(&mut self, question: &Question) -> Answer;
+    /// Runs a task with this engine.
+    fn run_task(&mut self, task: Task);
+}
+
+/// A whole piece of work for the second engine: it gets the knowledge
+/// base itself.
+pub type Task = Box<dyn FnOnce(&mut crate::kb::KnowledgeBase) + Send>;
+
+/// What the second engine's thread is handed.
+enum Job {
+    Batch(Arc<Batch>),
+    Task(Task),
 }
 
 /// A batch both engines work through: each takes the next question by
@@ -95,7 +111,7 @@ const SPIN: Duration = Duration::from_micros(300);
 
 /// The handle the first engine keeps of the second.
 pub struct SecondEngine {
-    jobs: Sender<Arc<Batch>>,
+    jobs: Sender<Job>,
     shared: Arc<Shared>,
 }
 
@@ -132,7 +148,7 @@ impl SecondEngine {
     pub fn share(&self, kb: &mut dyn Answerer, questions: Vec<Question>) -> (Vec<Answer>, u64) {
         let n = questions.len();
         let batch = Arc::new(Batch::new(questions));
-        let handed = self.jobs.send(Arc::clone(&batch)).is_ok();
+        let handed = self.jobs.send(Job::Batch(Arc::clone(&batch))).is_ok();
         let mine = batch.work(kb);
         // wait for the questions the second engine took (each one is
         // bounded by the inference limit), unless it is gone
@@ -156,11 +172,25 @@ impl SecondEngine {
             .collect();
         (answers, theirs)
     }
+
+    /// Hands `task` to the second engine; its result comes by the
+    /// receiver (which reports a disconnection if the thread is gone).
+    pub fn spawn<R: Send + 'static>(
+        &self,
+        task: impl FnOnce(&mut crate::kb::KnowledgeBase) -> R + Send + 'static,
+    ) -> Receiver<R> {
+        let (tx, rx) = mpsc::channel();
+        let job = Job::Task(Box::new(move |kb| {
+            let _ = tx.send(task(kb));
+        }));
+        let _ = self.jobs.send(job);
+        rx
+    }
 }
 
 fn serve(
     make: impl FnOnce() -> Option<Box<dyn Answerer>>,
-    jobs: Receiver<Arc<Batch>>,
+    jobs: Receiver<Job>,
     shared: Arc<Shared>,
 ) {
     let _gone = GoneOnDrop(Arc::clone(&shared));
@@ -170,7 +200,7 @@ fn serve(
     shared.ready.store(true, Ordering::SeqCst);
     let mut last = Instant::now();
     loop {
-        let batch = match jobs.try_recv() {
+        let job = match jobs.try_recv() {
             Ok(b) => b,
             Err(TryRecvError::Empty) if last.elapsed() < SPIN => {
                 std::hint::spin_loop();
@@ -182,11 +212,17 @@ fn serve(
             },
             Err(TryRecvError::Disconnected) => return,
         };
-        let t0 = Instant::now();
-        batch.work(kb.as_mut());
-        shared
-            .nanos
-            .fetch_add(t0.elapsed().as_nanos() as u64, Ordering::SeqCst);
+        match job {
+            Job::Batch(batch) => {
+                let t0 = Instant::now();
+                batch.work(kb.as_mut());
+                shared
+                    .nanos
+                    .fetch_add(t0.elapsed().as_nanos() as u64, Ordering::SeqCst);
+            }
+            // (a task's questions are counted by the task itself)
+            Job::Task(task) => kb.run_task(task),
+        }
         last = Instant::now();
     }
 }
