@@ -12,7 +12,7 @@
 use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, OutputStreamConfig, StreamConfig, Term};
 
 use crate::kb::error::KbError;
-use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine, Task};
+use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
 use crate::kb::terms::{
     self, atom_or_text, binding_pair, fault_to_error, term_number, term_text, user_query_question,
 };
@@ -366,7 +366,12 @@ impl KnowledgeBase {
             return None;
         }
         let second = self.second.as_ref()?;
-        Some(second.spawn(move |kb| {
+        Some(second.spawn(move |engine| {
+            // (the second engine is a knowledge base: it is built so)
+            let kb = engine
+                .as_any()
+                .downcast_mut::<KnowledgeBase>()
+                .expect("the second engine is a KnowledgeBase");
             let before = kb.stats;
             let r = task(kb);
             let mut used = kb.stats;
@@ -510,8 +515,8 @@ impl Answerer for KnowledgeBase {
         self.ask_bounded_fresh(query, context)
     }
 
-    fn run_task(&mut self, task: Task) {
-        task(self)
+    fn as_any(&mut self) -> &mut dyn std::any::Any {
+        self
     }
 }
 

@@ -33,13 +33,12 @@ pub type Answer = Result<Option<Term>, KbError>;
 pub trait Answerer {
     /// The answer to one question.
     fn answer(&mut self, question: &Question) -> Answer;
-    /// Runs a task with this engine.
-    fn run_task(&mut self, task: Task);
+    /// The engine itself, for a task that needs more than answers.
+    fn as_any(&mut self) -> &mut dyn std::any::Any;
 }
 
-/// A whole piece of work for the second engine: it gets the knowledge
-/// base itself.
-pub type Task = Box<dyn FnOnce(&mut crate::kb::KnowledgeBase) + Send>;
+/// A whole piece of work for the second engine (it gets the engine).
+pub type Task = Box<dyn FnOnce(&mut dyn Answerer) + Send>;
 
 /// What the second engine's thread is handed.
 enum Job {
@@ -177,7 +176,7 @@ impl SecondEngine {
     /// receiver (which reports a disconnection if the thread is gone).
     pub fn spawn<R: Send + 'static>(
         &self,
-        task: impl FnOnce(&mut crate::kb::KnowledgeBase) -> R + Send + 'static,
+        task: impl FnOnce(&mut dyn Answerer) -> R + Send + 'static,
     ) -> Receiver<R> {
         let (tx, rx) = mpsc::channel();
         let job = Job::Task(Box::new(move |kb| {
@@ -221,7 +220,7 @@ fn serve(
                     .fetch_add(t0.elapsed().as_nanos() as u64, Ordering::SeqCst);
             }
             // (a task's questions are counted by the task itself)
-            Job::Task(task) => kb.run_task(task),
+            Job::Task(task) => task(kb.as_mut()),
         }
         last = Instant::now();
     }
