@@ -684,12 +684,7 @@ pub(crate) fn finish_mesh(
         check: t0.elapsed().as_secs_f64() - smoothing,
         ..Default::default()
     };
-    let mut kb_stats = kb_after;
-    kb_stats.engine_queries -= kb_before.engine_queries;
-    kb_stats.cached_queries -= kb_before.cached_queries;
-    kb_stats.engine_time -= kb_before.engine_time;
-    kb_stats.second_engine_queries -= kb_before.second_engine_queries;
-    kb_stats.second_engine_time -= kb_before.second_engine_time;
+    let kb_stats = kb_after.since(&kb_before);
     Ok(MeshResult {
         mesh,
         trace,

@@ -145,9 +145,8 @@ pub fn mesh_in_blocks(
         }
     }
     // the time not spent on the kept mesh's own finishing
-    let blocks_time = |r: &MeshResult| {
-        started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check
-    };
+    let blocks_time =
+        |r: &MeshResult| started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
     if let Some((b, mut r, name)) = best.take() {
         if b.outside == 0 {
             progress(r.mesh.quads.len());

@@ -93,6 +93,19 @@ pub struct KbStats {
     pub second_engine_time: std::time::Duration,
 }
 
+impl KbStats {
+    /// The use counted since `before` (counters taken earlier).
+    pub fn since(&self, before: &KbStats) -> KbStats {
+        KbStats {
+            engine_queries: self.engine_queries - before.engine_queries,
+            cached_queries: self.cached_queries - before.cached_queries,
+            engine_time: self.engine_time - before.engine_time,
+            second_engine_queries: self.second_engine_queries - before.second_engine_queries,
+            second_engine_time: self.second_engine_time - before.second_engine_time,
+        }
+    }
+}
+
 /// Batches of new questions smaller than this are answered by the first
 /// engine alone: handing work over costs about a question's time.
 const SPLIT_FROM: usize = 2;
@@ -361,24 +374,18 @@ impl KnowledgeBase {
     pub(crate) fn on_second_engine<R: Send + 'static>(
         &mut self,
         task: impl FnOnce(&mut KnowledgeBase) -> R + Send + 'static,
-    ) -> Option<std::sync::mpsc::Receiver<(R, KbStats)>> {
+    ) -> Option<std::sync::mpsc::Receiver<Option<(R, KbStats)>>> {
         if !self.second_engine_ready() {
             return None;
         }
         let second = self.second.as_ref()?;
         Some(second.spawn(move |engine| {
-            // (the second engine is a knowledge base: it is built so)
-            let kb = engine
-                .as_any()
-                .downcast_mut::<KnowledgeBase>()
-                .expect("the second engine is a KnowledgeBase");
+            // (the second engine is built as a knowledge base; were it
+            // not, the caller would do the task itself)
+            let kb = engine.as_any().downcast_mut::<KnowledgeBase>()?;
             let before = kb.stats;
             let r = task(kb);
-            let mut used = kb.stats;
-            used.engine_queries -= before.engine_queries;
-            used.cached_queries -= before.cached_queries;
-            used.engine_time -= before.engine_time;
-            (r, used)
+            Some((r, kb.stats.since(&before)))
         }))
     }
 
@@ -386,9 +393,9 @@ impl KnowledgeBase {
     /// counted as the second engine's (None: the engine was lost).
     pub(crate) fn take_from_second_engine<R>(
         &mut self,
-        rx: std::sync::mpsc::Receiver<(R, KbStats)>,
+        rx: std::sync::mpsc::Receiver<Option<(R, KbStats)>>,
     ) -> Option<R> {
-        let (r, used) = rx.recv().ok()?;
+        let (r, used) = rx.recv().ok()??;
         self.stats.engine_queries += used.engine_queries;
         self.stats.cached_queries += used.cached_queries;
         self.stats.second_engine_queries += used.engine_queries;
@@ -609,11 +616,16 @@ mod tests {
         let rx = kb
             .on_second_engine(|kb| kb.ask_cached("task_probe(X).", "X").unwrap())
             .expect("a ready second engine takes the task");
-        let answer = kb.take_from_second_engine(rx).expect("its result comes back");
+        let answer = kb
+            .take_from_second_engine(rx)
+            .expect("its result comes back");
         let _ = std::fs::remove_file(&file);
         assert_eq!(answer.map(|t| term_text(&t)), Some("42".to_string()));
         assert_eq!(kb.stats.engine_queries, before.engine_queries + 1);
-        assert_eq!(kb.stats.second_engine_queries, before.second_engine_queries + 1);
+        assert_eq!(
+            kb.stats.second_engine_queries,
+            before.second_engine_queries + 1
+        );
     }
 
     #[test]
