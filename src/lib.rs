@@ -61,7 +61,7 @@ mod smoothing;
 mod validity;
 
 // The entry point, what it takes and what it gives.
-pub use blocks::mesh_in_blocks;
+pub use blocks::{mesh_free_then_blocks, mesh_in_blocks};
 pub use input::domain::{Domain, DomainError};
 pub use kb::{KbError, KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
 pub use mesh::{Mesh, NodeKind};

@@ -10,9 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use freemesh::{
-    mesh_domain, render, write_all, Domain, ElementKind, KnowledgeBase, Options, SecondOrder,
-};
+use freemesh::{render, write_all, Domain, ElementKind, KnowledgeBase, Options, SecondOrder};
 
 // The engine and the mesher make many small, short-lived allocations;
 // mimalloc serves them faster than the system allocator.
@@ -495,10 +493,10 @@ fn mesh_one(
             b.set_position(quads as u64);
         }
     };
-    let result = match early_boundary {
-        _ if args.blocks => freemesh::mesh_in_blocks(&domain, kb, &opts, &mut progress),
-        Some(b) => freemesh::mesh_boundary(&domain, b, kb, &opts, &mut progress),
-        None => mesh_domain(&domain, kb, &opts, &mut progress),
+    let result = if args.blocks {
+        freemesh::mesh_in_blocks(&domain, kb, &opts, &mut progress)
+    } else {
+        freemesh::mesh_free_then_blocks(&domain, early_boundary, kb, &opts, &mut progress)
     };
     if let Some(b) = &bar {
         b.finish_and_clear();
@@ -587,7 +585,7 @@ fn mesh_one(
         let ph = &result.phases;
         if ph.blocks > 0.0 {
             eprintln!(
-                "{}: blocks {:.3} s (the layouts, their block meshes, and the finishing of those not kept)",
+                "{}: blocks {:.3} s (the layouts, their block meshes, and the meshes not kept)",
                 domain.name(),
                 ph.blocks
             );

@@ -376,7 +376,7 @@ pub fn mesh_domain(
     mesh_boundary(domain, run_boundary, kb, opts, progress)
 }
 
-fn check_options(opts: &Options) -> Result<(), Error> {
+pub(crate) fn check_options(opts: &Options) -> Result<(), Error> {
     match opts.max_size {
         Some(m) if !(m.is_finite() && m > 0.0) => Err(OptionError::NotPositive {
             option: RunOption::MaxSize,
@@ -396,10 +396,26 @@ pub fn mesh_boundary(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
+    mesh_boundary_by(domain, run_boundary, kb, opts, progress).map(|(r, _)| r)
+}
+
+/// `mesh_boundary`, with the settings the run read from the KB and
+/// whether it was graded.
+pub(crate) fn mesh_boundary_by(
+    domain: &Domain,
+    run_boundary: RunBoundary,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(MeshResult, (crate::settings::Settings, bool)), Error> {
     let prepared = prepare_run(domain, run_boundary, kb, opts)?;
+    let read = (
+        prepared.prepared.settings().clone(),
+        prepared.prepared.is_graded(),
+    );
     let mut run = Run::start(kb, prepared);
     run.recursion(progress)?;
-    run.finish()
+    Ok((run.finish()?, read))
 }
 
 /// A run in progress: the recursion can be taken a step at a time (the

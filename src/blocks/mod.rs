@@ -46,9 +46,99 @@ pub fn mesh_in_blocks(
 ) -> Result<MeshResult, Error> {
     let started = std::time::Instant::now();
     let settings = kb.settings()?;
-    let size = opts.size.unwrap_or(domain.size());
     let kb_before = kb.stats;
     let mut tried: Vec<String> = Vec::new();
+    // the time not spent on the kept mesh's own finishing
+    let blocks_time =
+        |r: &MeshResult| started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+    let best = match best_block_mesh(domain, kb, opts, &settings, kb_before, 1.0, &mut tried)? {
+        Some((b, mut r, name)) if b.outside == 0 => {
+            progress(r.mesh.quads.len());
+            r.phases.blocks = blocks_time(&r);
+            return Ok(with_first_step(r, &name, tried));
+        }
+        other => other,
+    };
+    let before_free = started.elapsed().as_secs_f64();
+    let mut free = mesh_domain(domain, kb, opts, progress)?;
+    let score = Score::of(&free, &settings.element, domain);
+    if let Some((_, mut r, name)) = best.filter(|(b, _, _)| *b < score) {
+        r.phases.blocks = blocks_time(&r);
+        return Ok(with_first_step(r, &name, tried));
+    }
+    free.phases.blocks = before_free;
+    tried.push(format!(
+        "free: {} elements out of bounds, {} irregular nodes",
+        score.outside, score.irregular
+    ));
+    Ok(with_first_step(free, "free", tried))
+}
+
+/// Meshes `domain` free by the rules, as `mesh_boundary` does (from
+/// `boundary` where the caller made it ready); where that mesh has
+/// elements outside the bounds, the domain is also meshed in blocks, on
+/// the layouts with at most `bound(blocks_when_out_of_bounds, S)` of
+/// their blocks free (0: never), and the mesh with fewer elements outside
+/// kept (the trace's first step says which, and what each gave).
+/// A graded run, and a domain with cracks, keep the free mesh.
+pub fn mesh_free_then_blocks(
+    domain: &Domain,
+    boundary: Option<crate::pipeline::RunBoundary>,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    let started = std::time::Instant::now();
+    let kb_before = kb.stats;
+    let boundary = match boundary {
+        Some(b) => b,
+        None => {
+            crate::pipeline::check_options(opts)?;
+            discretise_for_run(domain, opts.size)?
+        }
+    };
+    let (free, (settings, graded)) =
+        crate::pipeline::mesh_boundary_by(domain, boundary, kb, opts, progress)?;
+    let share = settings.host.blocks_when_out_of_bounds;
+    if share <= 0.0 || graded {
+        return Ok(free);
+    }
+    let score = Score::of(&free, &settings.element, domain);
+    if score.outside == 0 {
+        return Ok(free);
+    }
+    let mut tried = vec![format!(
+        "free: {} elements out of bounds, {} irregular nodes; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
+        score.outside, score.irregular
+    )];
+    // a layout mostly of free blocks would mesh the domain free again
+    let best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?;
+    match best.filter(|(b, _, _)| *b < score) {
+        Some((_, mut r, name)) => {
+            r.phases.blocks = started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+            progress(r.mesh.quads.len());
+            Ok(with_first_step(r, &name, tried))
+        }
+        None => Ok(with_first_step(free, "free", tried)),
+    }
+}
+
+/// The layouts first (coarse: cheap), then their block meshes finished in
+/// order of their irregular nodes until one is within the bounds: the
+/// best of them (fewest elements outside the bounds, then fewest
+/// irregular nodes) with its action in the trace's first step, or none;
+/// what each gave is added to `tried`. A layout with more than
+/// `max_free_share` of its blocks free is dropped.
+fn best_block_mesh(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    settings: &crate::settings::Settings,
+    kb_before: crate::kb::KbStats,
+    max_free_share: f64,
+    tried: &mut Vec<String>,
+) -> Result<Option<(Score, MeshResult, String)>, Error> {
+    let size = opts.size.unwrap_or(domain.size());
     // the layouts first (coarse: cheap), then the block meshes finished
     // in order of their irregular nodes until one is within the bounds
     // each candidate: its irregular nodes, its action in the trace's first
@@ -85,20 +175,22 @@ pub fn mesh_in_blocks(
         let elsewhere = match factors.split_last() {
             Some((&finest, rest)) if !rest.is_empty() => {
                 let (d, o) = (domain.clone(), opts.clone());
-                kb.on_second_engine(move |kb| block_layout(&d, kb, &o, size, finest, arc_step))
+                kb.on_second_engine(move |kb| {
+                    block_layout(&d, kb, &o, size, finest, arc_step, max_free_share)
+                })
             }
             _ => None,
         };
         let here = factors.len() - usize::from(elsewhere.is_some());
         let mut made: Vec<Result<Outcome, String>> = factors[..here]
             .iter()
-            .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step))
+            .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step, max_free_share))
             .collect();
         if let Some(rx) = elsewhere {
             let finest = factors[here];
             made.push(match kb.take_from_second_engine(rx) {
                 Some(r) => r,
-                None => block_layout(domain, kb, opts, size, finest, arc_step),
+                None => block_layout(domain, kb, opts, size, finest, arc_step, max_free_share),
             });
         }
         for (factor, outcome) in factors.into_iter().zip(made) {
@@ -144,30 +236,7 @@ pub fn mesh_in_blocks(
             break;
         }
     }
-    // the time not spent on the kept mesh's own finishing
-    let blocks_time =
-        |r: &MeshResult| started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
-    if let Some((b, mut r, name)) = best.take() {
-        if b.outside == 0 {
-            progress(r.mesh.quads.len());
-            r.phases.blocks = blocks_time(&r);
-            return Ok(with_first_step(r, &name, tried));
-        }
-        best = Some((b, r, name));
-    }
-    let before_free = started.elapsed().as_secs_f64();
-    let mut free = mesh_domain(domain, kb, opts, progress)?;
-    let score = Score::of(&free, &settings.element, domain);
-    if let Some((_, mut r, name)) = best.filter(|(b, _, _)| *b < score) {
-        r.phases.blocks = blocks_time(&r);
-        return Ok(with_first_step(r, &name, tried));
-    }
-    free.phases.blocks = before_free;
-    tried.push(format!(
-        "free: {} elements out of bounds, {} irregular nodes",
-        score.outside, score.irregular
-    ));
-    Ok(with_first_step(free, "free", tried))
+    Ok(best)
 }
 
 /// How far a mesh is from the bounds (elements with a corner outside the
@@ -285,7 +354,7 @@ fn renumber(trace: &mut [TraceStep]) {
 
 /// The blocks of a layout of `factor` element sizes, each meshed as a
 /// mapping element (or the free blocks by the rules), or why there are
-/// none.
+/// none (among the reasons: more than `max_free_share` of them free).
 fn block_layout(
     domain: &Domain,
     kb: &mut KnowledgeBase,
@@ -293,6 +362,7 @@ fn block_layout(
     size: f64,
     factor: f64,
     arc_step: f64,
+    max_free_share: f64,
 ) -> Result<Outcome, String> {
     let coarse = size * factor;
     let layout_opts = Options {
@@ -302,7 +372,7 @@ fn block_layout(
     };
     let layout_domain = layout_for(domain, coarse, arc_step);
     let made = layout(&layout_domain, kb, &layout_opts)?;
-    blocks_of(made, domain, size, kb, opts.trace)
+    blocks_of(made, domain, size, kb, opts.trace, max_free_share)
 }
 
 /// The layout: `domain` meshed by the rules at the coarse size of
@@ -395,6 +465,7 @@ fn blocks_of(
     size: f64,
     kb: &mut KnowledgeBase,
     record_trace: bool,
+    max_free_share: f64,
 ) -> Result<Outcome, String> {
     let coarse = &layout.mesh;
     let chords: Chords = intervals::chords(&coarse.quads);
@@ -431,6 +502,13 @@ fn blocks_of(
         .map(|s| edge_counts[s[0]] != edge_counts[s[2]] || edge_counts[s[1]] != edge_counts[s[3]])
         .collect();
     free_blocks::even_regions(&chords, &edge_counts, &mut free);
+    let n_free = free.iter().filter(|&&f| f).count();
+    if n_free as f64 > max_free_share * free.len() as f64 {
+        return Err(format!(
+            "{n_free} of its {} blocks free, more than the share {max_free_share}",
+            free.len()
+        ));
+    }
     let (mut mesh, edge_nodes) =
         mapping::mesh_blocks(coarse, &chords, &edge_counts, &free, &on_curve)
             .ok_or("a block's opposite sides disagree")?;

@@ -80,6 +80,14 @@ impl Prepared {
         self.max_size = max_size.filter(|&m| m > self.size * (1.0 + 1e-9));
         self
     }
+    /// The settings the run goes by.
+    pub fn settings(&self) -> &Settings {
+        &self.set
+    }
+    /// Whether the run is graded (an interior limit above the size).
+    pub fn is_graded(&self) -> bool {
+        self.max_size.is_some()
+    }
 }
 
 /// Passes of the loop subdivision before the run gives up (and the last
