@@ -16,6 +16,7 @@ the other bounds keep the values below).
 
 :- dynamic(strategy/1).
 :- dynamic(bound/2).
+:- dynamic(retry_bound/3).
 
 %% strategy(-Features)
 %
@@ -192,3 +193,17 @@ bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
+
+%% retry_bound(?Variant, ?Name, ?Value)
+%
+% Where a uniform free mesh of a domain with fixed segment counts still
+% has elements outside the bounds after it was meshed in blocks
+% (blocks_when_out_of_bounds), the domain is meshed again with each
+% Variant's bounds in place of the bounds of those names, and the mesh
+% with fewer elements outside kept; the trace's first step says which.
+% refine_fixed_counts turns on the refining transition (feature refine,
+% action r3): off by default, as it did worse on the random domains with
+% coarse fixed counts than without, but better on some of those that
+% fall short otherwise.
+retry_bound(refine_fixed_counts, uniform_size_band, 1.5).
+retry_bound(refine_fixed_counts, refine_ratio, 0.45).

@@ -650,6 +650,40 @@ fn a_free_mesh_out_of_bounds_is_meshed_again_in_blocks_and_the_better_kept() {
     }
 }
 
+/// Where neither the free mesh nor the blocks are within the bounds, a
+/// domain with fixed segment counts is meshed again by the bounds of
+/// `retry_bound/3` (strategy.pl: the refining transition on): a slot
+/// whose long sides have counts coarser than the size (seed 200) comes
+/// within the bounds so, and the trace's first step says it.
+#[test]
+fn a_domain_with_coarse_fixed_counts_is_retried_with_refining_on() {
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let domain = Domain::from_json(&generate(200)).expect("a valid domain");
+    let free = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    assert!(!within_bounds(&free.quality, 45.0), "{:?}", free.quality);
+    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    assert!(within_bounds(&r.quality, 45.0), "{:?}", r.quality);
+    let first = &r.trace[0];
+    assert!(
+        first.action.starts_with("retry(refine_fixed_counts"),
+        "{}: {:?}",
+        first.action,
+        first.redesign
+    );
+    assert!(
+        first.redesign.iter().any(|t| t.starts_with(
+            "retry refine_fixed_counts (bound(uniform_size_band, 1.5), bound(refine_ratio, 0.45))"
+        )),
+        "{:?}",
+        first.redesign
+    );
+    let loops = 1 + domain.hole_count() as u32;
+    let area = boundary_area(&r.mesh, loops);
+    assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None);
+    assert_eq!(boundary_not_followed(&r.mesh, loops), None);
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

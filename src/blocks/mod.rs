@@ -112,8 +112,50 @@ pub fn mesh_free_then_blocks(
         score.outside, score.irregular
     )];
     // a layout mostly of free blocks would mesh the domain free again
-    let best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?;
-    match best.filter(|(b, _, _)| *b < score) {
+    let mut best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?
+        .filter(|(b, _, _)| *b < score);
+    let still_outside = best.as_ref().map_or(score, |b| b.0).outside > 0;
+    if still_outside && has_fixed_counts(domain) {
+        for (variant, bounds) in kb.retry_variants()? {
+            let words = bounds
+                .iter()
+                .map(|(n, x)| format!("bound({n}, {x})"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let said = format!("retry {variant} ({words})");
+            let mut other = kb.with_bounds(&bounds)?;
+            let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
+                Ok(r) => r,
+                Err(e) => {
+                    tried.push(format!("{said}: {e}"));
+                    continue;
+                }
+            };
+            let s = Score::of(&r, &settings.element, domain);
+            tried.push(format!(
+                "{said}: {} elements out of bounds, {} irregular nodes",
+                s.outside, s.irregular
+            ));
+            let mut kept = (s, r, format!("retry({variant})"));
+            // and in blocks by those bounds too, where that mesh falls short
+            if s.outside > 0 {
+                let mut also = vec![];
+                let before = other.stats;
+                if let Some(b) = best_block_mesh(
+                    domain, &mut other, opts, &settings, before, share, &mut also,
+                )?
+                .filter(|(b, _, _)| *b < s)
+                {
+                    kept = (b.0, b.1, format!("retry({variant}, {})", b.2));
+                }
+                tried.extend(also.into_iter().map(|t| format!("{said}: {t}")));
+            }
+            if kept.0 < best.as_ref().map_or(score, |b| b.0) {
+                best = Some(kept);
+            }
+        }
+    }
+    match best {
         Some((_, mut r, name)) => {
             r.phases.blocks = started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
             progress(r.mesh.quads.len());
@@ -121,6 +163,14 @@ pub fn mesh_free_then_blocks(
         }
         None => Ok(with_first_step(free, "free", tried)),
     }
+}
+
+/// Whether an edge of `domain` has a fixed segment count (the retries of
+/// `retry_bound/3` change how such counts are met).
+fn has_fixed_counts(domain: &Domain) -> bool {
+    domain
+        .chains()
+        .any(|c| c.edges.iter().any(|e| e.segments.is_some()))
 }
 
 /// The layouts first (coarse: cheap), then their block meshes finished in

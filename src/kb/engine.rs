@@ -172,6 +172,11 @@ impl KnowledgeBase {
         &self.files
     }
 
+    /// The user's files, in the order they were consulted.
+    pub fn user_files(&self) -> &[String] {
+        &self.files[BUILTIN_KB.len().min(self.files.len())..]
+    }
+
     /// The time the engine took to build, consult the built-in rules and
     /// the user's files (paid once a run, before the mesh's own clock).
     pub fn load_time(&self) -> std::time::Duration {

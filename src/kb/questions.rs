@@ -46,6 +46,43 @@ impl KnowledgeBase {
         Ok(Settings::new(strategy, rounds, element, host))
     }
 
+    /// The other bounds a free mesh that falls short is tried again with
+    /// (`retry_bound(Variant, Name, Value)`, strategy.pl): each variant
+    /// with its bounds, in the order the KB names them.
+    pub fn retry_variants(&mut self) -> Result<Vec<(String, Vec<(String, f64)>)>, KbError> {
+        let mut variants: Vec<(String, Vec<(String, f64)>)> = Vec::new();
+        for b in self.run(terms::RETRY_BOUND_QUESTION)? {
+            let (Some(v), Some(n), Some(x)) = (b.get("V"), b.get("N"), b.get("X")) else {
+                continue;
+            };
+            let value = terms::term_number(x).ok_or_else(|| KbError::Answer {
+                query: "retry_bound/3".into(),
+                answer: terms::term_text(x),
+                expected: "a number".into(),
+            })?;
+            let (v, n) = (terms::term_text(v), terms::term_text(n));
+            match variants.iter_mut().find(|(w, _)| *w == v) {
+                Some((_, bounds)) => bounds.push((n, value)),
+                None => variants.push((v, vec![(n, value)])),
+            }
+        }
+        Ok(variants)
+    }
+
+    /// A knowledge base of its own with this one's files and `bounds` in
+    /// place of the bounds of those names (a run on it leaves this one's
+    /// rules and remembered answers as they are).
+    pub fn with_bounds(&self, bounds: &[(String, f64)]) -> Result<KnowledgeBase, KbError> {
+        let mut kb = KnowledgeBase::builtin()?;
+        for f in self.user_files() {
+            kb.consult_file(f)?;
+        }
+        for (name, value) in bounds {
+            kb.run(&terms::set_bound_question(name, *value))?;
+        }
+        Ok(kb)
+    }
+
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {
         let t = self.first_binding(&terms::bound_question(name), "V")?;
         terms::bound_answer(name, t)

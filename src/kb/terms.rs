@@ -646,6 +646,18 @@ pub(super) fn probe_question(probe: &str) -> String {
 /// run without the inference bound (the loader's `fm_only_built_in_rules_`).
 pub(super) const ONLY_BUILT_IN_RULES: &str = "assertz(fm_only_built_in_rules_).";
 
+/// The variants of bounds a free mesh that falls short is tried again
+/// with (strategy.pl).
+pub(super) const RETRY_BOUND_QUESTION: &str = "retry_bound(V, N, X).";
+
+/// Replaces the bound `name` (bound/2 is dynamic) by `value`.
+pub(super) fn set_bound_question(name: &str, value: f64) -> String {
+    format!(
+        "retractall(bound({name}, _)), assertz(bound({name}, {})).",
+        fmt_float(value)
+    )
+}
+
 /// Takes the mark back: a user's rules may come in, bound every question.
 pub(super) const NOT_ONLY_BUILT_IN_RULES: &str = "retractall(fm_only_built_in_rules_).";
 
