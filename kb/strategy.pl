@@ -17,6 +17,7 @@ the other bounds keep the values below).
 :- dynamic(strategy/1).
 :- dynamic(bound/2).
 :- dynamic(retry_bound/3).
+:- dynamic(retry_needs/2).
 
 %% strategy(-Features)
 %
@@ -135,6 +136,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   brings within the bounds, in three quarters of the time), and the
 %   mesh with fewer elements outside kept; the trace's first step says
 %   which and why. 0: the free mesh is kept whatever it gives.
+% retry_sharpest_corner: the retries of retry_bound/3 are not tried on a
+%   domain with an input corner sharper than this (deg): in an element
+%   at such a tip whose other corners are at most 135 deg, the sides
+%   across the tip are at most 1.41 sin(tip/2) times those along it, a
+%   taper above 10 under 8.1 deg, so no retry would come within the
+%   bounds (the trace's first step says so).
 % fallback_reopen_rings: where the rules' elements lost a boundary or line
 %   segment (no element has it as an edge), the elements within this many
 %   rings of it, and those across it, are meshed again by triangles split
@@ -189,6 +196,7 @@ bound(block_size, 4).
 bound(block_arc_step, 45).
 bound(four_sided_pairs, 2).
 bound(blocks_when_out_of_bounds, 0.5).
+bound(retry_sharpest_corner, 8.1).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
@@ -196,14 +204,35 @@ bound(closing_strict_size, 1.6).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %
-% Where a uniform free mesh of a domain with fixed segment counts still
-% has elements outside the bounds after it was meshed in blocks
-% (blocks_when_out_of_bounds), the domain is meshed again with each
-% Variant's bounds in place of the bounds of those names, and the mesh
-% with fewer elements outside kept; the trace's first step says which.
+% Where a uniform free mesh still has elements outside the bounds after
+% it was meshed in blocks (blocks_when_out_of_bounds), the domain is
+% meshed again, free and then in blocks, with each Variant's bounds in
+% place of the bounds of those names, in this order, until one mesh is
+% within the bounds; the mesh with fewest elements outside is kept and
+% the trace's first step says which.
 % refine_fixed_counts turns on the refining transition (feature refine,
 % action r3): off by default, as it did worse on the random domains with
 % coarse fixed counts than without, but better on some of those that
 % fall short otherwise.
+% The others each move one threshold of the design rules a little, so
+% that the fronts take other ways where they met badly: fronts that may
+% leave no corner under 20 deg (12), that merge only within 0.4 of the
+% size (0.5), that call a corner near horizontal within 0.2 (0.3).
+%
+% ?- retry_bound(refine_fixed_counts, N, V).
+%    N = uniform_size_band, V = 1.5
+% ;  N = refine_ratio, V = 0.45.
 retry_bound(refine_fixed_counts, uniform_size_band, 1.5).
 retry_bound(refine_fixed_counts, refine_ratio, 0.45).
+retry_bound(no_sharp_front_corners, min_front_angle, 20).
+retry_bound(fronts_merge_nearer, near_node, 0.4).
+retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
+
+%% retry_needs(?Variant, ?What)
+%
+% A retry tried only on a domain with What: fixed_counts, an edge with a
+% fixed segment count.
+%
+% ?- retry_needs(V, fixed_counts).
+%    V = refine_fixed_counts.
+retry_needs(refine_fixed_counts, fixed_counts).

@@ -236,6 +236,11 @@ pub struct HostBounds {
     /// free, and the one with fewer elements outside kept (0: never; see
     /// blocks/mod.rs, `mesh_free_then_blocks`).
     pub blocks_when_out_of_bounds: f64,
+    /// `retry_sharpest_corner`: the retries of `retry_bound/3` are not
+    /// tried on a domain with an input corner sharper than this (deg): no
+    /// element at it meets the taper bound, so none would come within
+    /// the bounds (see blocks/mod.rs, `mesh_free_then_blocks`).
+    pub retry_sharpest_corner: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -273,13 +278,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 24] = [
+    pub const BUILT_IN: [f64; 25] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 24] = [
+    pub const NAMES: [&'static str; 25] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -304,13 +309,14 @@ impl HostBounds {
         "uniform_size_band",
         "four_sided_pairs",
         "blocks_when_out_of_bounds",
+        "retry_sharpest_corner",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 24]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds] =
+    pub fn new(v: [f64; 25]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -337,6 +343,7 @@ impl HostBounds {
             (0.0, f64::MAX),
             (0.0, 3.0),
             (0.0, 2.0),
+            (0.0, 180.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -372,6 +379,7 @@ impl HostBounds {
             uniform_size_band,
             four_sided_pairs,
             blocks_when_out_of_bounds,
+            retry_sharpest_corner,
         })
     }
 }

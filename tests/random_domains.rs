@@ -684,6 +684,76 @@ fn a_domain_with_coarse_fixed_counts_is_retried_with_refining_on() {
     assert_eq!(boundary_not_followed(&r.mesh, loops), None);
 }
 
+/// A domain without fixed counts is retried too, by the variants that do
+/// not need them (`retry_needs/2`), in the KB's order until one is within
+/// the bounds: a slot (seed 912) whose free mesh and blocks leave
+/// elements outside comes within them when the fronts may leave no
+/// corner under 20 deg; another (seed 533) not so, but when the fronts
+/// merge only within 0.4 of the size. refine_fixed_counts, which needs
+/// fixed counts, is tried on neither.
+#[test]
+fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
+    for (seed, kept, before) in [
+        (912, "no_sharp_front_corners", &[][..]),
+        (533, "fronts_merge_nearer", &["no_sharp_front_corners"][..]),
+    ] {
+        let opts = Options::default().with_trace(true);
+        let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+        let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
+        let free = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).expect("meshed");
+        assert!(
+            !within_bounds(&free.quality, 45.0),
+            "{seed}: {:?}",
+            free.quality
+        );
+        let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+        assert!(within_bounds(&r.quality, 45.0), "{seed}: {:?}", r.quality);
+        let first = &r.trace[0];
+        assert_eq!(
+            first.action,
+            format!("retry({kept})"),
+            "{seed}: {:?}",
+            first.redesign
+        );
+        let retried: Vec<&str> = first
+            .redesign
+            .iter()
+            .filter_map(|t| t.strip_prefix("retry "))
+            .filter_map(|t| t.split(' ').next())
+            .collect();
+        let mut expected = before.to_vec();
+        expected.push(kept);
+        // blocks under a variant are listed under its name too
+        let mut seen = retried.clone();
+        seen.dedup();
+        assert_eq!(seen, expected, "{seed}: {:?}", first.redesign);
+        let loops = 1 + domain.hole_count() as u32;
+        let area = boundary_area(&r.mesh, loops);
+        assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None);
+        assert_eq!(boundary_not_followed(&r.mesh, loops), None);
+    }
+}
+
+/// No retry where an input corner is too sharp for any element at it to
+/// meet the taper bound (`bound(retry_sharpest_corner, 8.1)`): a spike of
+/// 5 deg (seed 1048) stays outside the bounds, its trace saying why no
+/// retry was made, and none was.
+#[test]
+fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let domain = Domain::from_json(&generate(1048)).expect("a valid domain");
+    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    assert!(!within_bounds(&r.quality, 4.0), "{:?}", r.quality);
+    let said = &r.trace[0].redesign;
+    assert!(
+        said.iter()
+            .any(|t| t.starts_with("no retry: an input corner of 5.0 deg")),
+        "{said:?}"
+    );
+    assert!(!said.iter().any(|t| t.starts_with("retry ")), "{said:?}");
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

@@ -114,9 +114,24 @@ pub fn mesh_free_then_blocks(
     // a layout mostly of free blocks would mesh the domain free again
     let mut best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?
         .filter(|(b, _, _)| *b < score);
-    let still_outside = best.as_ref().map_or(score, |b| b.0).outside > 0;
-    if still_outside && has_fixed_counts(domain) {
-        for (variant, bounds) in kb.retry_variants()? {
+    let best_outside =
+        |best: &Option<(Score, MeshResult, String)>| best.as_ref().map_or(score, |b| b.0).outside;
+    let sharpest = sharpest_input_corner(&free.mesh, domain);
+    let retry_above = settings.host.retry_sharpest_corner;
+    if best_outside(&best) > 0 && sharpest < retry_above {
+        tried.push(format!(
+            "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
+        ));
+    } else if best_outside(&best) > 0 {
+        let fixed_counts = has_fixed_counts(domain);
+        for (variant, bounds, needs) in kb.retry_variants()? {
+            // the first variant within the bounds ends the retries
+            if best_outside(&best) == 0 {
+                break;
+            }
+            if needs.iter().any(|n| n == "fixed_counts") && !fixed_counts {
+                continue;
+            }
             let words = bounds
                 .iter()
                 .map(|(n, x)| format!("bound({n}, {x})"))
@@ -165,8 +180,47 @@ pub fn mesh_free_then_blocks(
     }
 }
 
-/// Whether an edge of `domain` has a fixed segment count (the retries of
-/// `retry_bound/3` change how such counts are met).
+/// The sharpest corner (deg) of the domain at a vertex of its input, as
+/// the elements round that vertex in `mesh` add up (360 inside).
+fn sharpest_input_corner(mesh: &crate::mesh::Mesh, domain: &Domain) -> f64 {
+    let at_vertex = input_vertices(domain);
+    let mut at: Vec<(u32, f64)> = Vec::new();
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        let p = mesh.quad_points(q);
+        let angles = crate::geometry::quad_angles(p);
+        for k in 0..4 {
+            if mesh.kinds[quad[k] as usize] == crate::mesh::NodeKind::Boundary && at_vertex(p[k]) {
+                at.push((quad[k], angles[k]));
+            }
+        }
+    }
+    at.sort_by_key(|a| a.0);
+    at.chunk_by(|a, b| a.0 == b.0)
+        .map(|c| c.iter().map(|a| a.1).sum::<f64>())
+        .fold(360.0, f64::min)
+}
+
+/// Whether a point is at a vertex of the input (within a billionth of
+/// the domain's scale): the vertices sorted by x, so a point looks at
+/// those of about its x only.
+fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
+    let tol = 1e-9 * domain.scale();
+    let mut vertices: Vec<glam::DVec2> = domain
+        .chains()
+        .flat_map(crate::input::curves::chain_vertices)
+        .collect();
+    vertices.sort_by(|a, b| a.x.total_cmp(&b.x));
+    move |p: glam::DVec2| {
+        let from = vertices.partition_point(|v| v.x < p.x - tol);
+        vertices[from..]
+            .iter()
+            .take_while(|v| v.x <= p.x + tol)
+            .any(|v| (*v - p).length() <= tol)
+    }
+}
+
+/// Whether an edge of `domain` has a fixed segment count (a retry of
+/// `retry_bound/3` may need one: `retry_needs(V, fixed_counts)`).
 fn has_fixed_counts(domain: &Domain) -> bool {
     domain
         .chains()
@@ -320,12 +374,7 @@ fn corners_outside(
     bounds: &crate::settings::ElementBounds,
     domain: &Domain,
 ) -> usize {
-    let tol = 1e-9 * domain.scale();
-    let vertices: Vec<glam::DVec2> = domain
-        .chains()
-        .flat_map(crate::input::curves::chain_vertices)
-        .collect();
-    let at_vertex = |p: glam::DVec2| vertices.iter().any(|v| (*v - p).length() <= tol);
+    let at_vertex = input_vertices(domain);
     (0..mesh.quads.len())
         .filter(|&q| {
             let p = mesh.quad_points(q);

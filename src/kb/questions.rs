@@ -16,6 +16,10 @@ use crate::kb::vocabulary::{
 };
 use crate::settings::{ElementBounds, HostBounds, Settings};
 
+/// A retry's name, the bounds it sets, and what a domain needs for it
+/// (strategy.pl's `retry_bound/3`, `retry_needs/2`).
+pub type RetryVariant = (String, Vec<(String, f64)>, Vec<String>);
+
 impl KnowledgeBase {
     /// The settings (`strategy/1`, `bound/2`), read once for a run.
     pub fn settings(&mut self) -> Result<Settings, KbError> {
@@ -48,9 +52,10 @@ impl KnowledgeBase {
 
     /// The other bounds a free mesh that falls short is tried again with
     /// (`retry_bound(Variant, Name, Value)`, strategy.pl): each variant
-    /// with its bounds, in the order the KB names them.
-    pub fn retry_variants(&mut self) -> Result<Vec<(String, Vec<(String, f64)>)>, KbError> {
-        let mut variants: Vec<(String, Vec<(String, f64)>)> = Vec::new();
+    /// with its bounds, in the order the KB names them, and what a domain
+    /// needs for it to be tried (`retry_needs(Variant, What)`).
+    pub fn retry_variants(&mut self) -> Result<Vec<RetryVariant>, KbError> {
+        let mut variants: Vec<RetryVariant> = Vec::new();
         for b in self.run(terms::RETRY_BOUND_QUESTION)? {
             let (Some(v), Some(n), Some(x)) = (b.get("V"), b.get("N"), b.get("X")) else {
                 continue;
@@ -61,9 +66,18 @@ impl KnowledgeBase {
                 expected: "a number".into(),
             })?;
             let (v, n) = (terms::term_text(v), terms::term_text(n));
-            match variants.iter_mut().find(|(w, _)| *w == v) {
-                Some((_, bounds)) => bounds.push((n, value)),
-                None => variants.push((v, vec![(n, value)])),
+            match variants.iter_mut().find(|(w, _, _)| *w == v) {
+                Some((_, bounds, _)) => bounds.push((n, value)),
+                None => variants.push((v, vec![(n, value)], vec![])),
+            }
+        }
+        for b in self.run(terms::RETRY_NEEDS_QUESTION)? {
+            let (Some(v), Some(w)) = (b.get("V"), b.get("W")) else {
+                continue;
+            };
+            let v = terms::term_text(v);
+            if let Some((_, _, needs)) = variants.iter_mut().find(|(u, _, _)| *u == v) {
+                needs.push(terms::term_text(w));
             }
         }
         Ok(variants)

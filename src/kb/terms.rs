@@ -650,6 +650,9 @@ pub(super) const ONLY_BUILT_IN_RULES: &str = "assertz(fm_only_built_in_rules_)."
 /// with (strategy.pl).
 pub(super) const RETRY_BOUND_QUESTION: &str = "retry_bound(V, N, X).";
 
+/// What a domain needs for a retry to be tried (strategy.pl).
+pub(super) const RETRY_NEEDS_QUESTION: &str = "retry_needs(V, W).";
+
 /// Replaces the bound `name` (bound/2 is dynamic) by `value`.
 pub(super) fn set_bound_question(name: &str, value: f64) -> String {
     format!(
