@@ -754,6 +754,33 @@ fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
     assert!(!said.iter().any(|t| t.starts_with("retry ")), "{said:?}");
 }
 
+/// An input corner split between elements excuses none of them: in a
+/// four-sided domain of counts 3, 1, 2 and 8 (seed 419) the blocks split
+/// an 83-degree corner into two of 41.5, and the count of elements
+/// outside the bounds that picks the mesh has them (it once took them for
+/// a sharp input corner taken whole, and kept the mesh as within).
+#[test]
+fn a_split_input_corner_under_the_window_counts_as_outside() {
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let domain = Domain::from_json(&generate(419)).expect("a valid domain");
+    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let said = &r.trace[0].redesign;
+    let layout = said
+        .iter()
+        .find(|t| t.starts_with("blocks of 2 element sizes: "))
+        .expect("the layout of 2 sizes tried");
+    assert!(
+        layout.starts_with("blocks of 2 element sizes: 2 elements out of bounds"),
+        "{said:?}"
+    );
+    if within_bounds(&r.quality, 45.0) {
+        return;
+    }
+    // outside, so the retries were made
+    assert!(said.iter().any(|t| t.starts_with("retry ")), "{said:?}");
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

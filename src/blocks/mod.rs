@@ -183,6 +183,15 @@ pub fn mesh_free_then_blocks(
 /// The sharpest corner (deg) of the domain at a vertex of its input, as
 /// the elements round that vertex in `mesh` add up (360 inside).
 fn sharpest_input_corner(mesh: &crate::mesh::Mesh, domain: &Domain) -> f64 {
+    input_corner_angles(mesh, domain)
+        .iter()
+        .map(|a| a.1)
+        .fold(360.0, f64::min)
+}
+
+/// The mesh's nodes at a vertex of the input, in order, each with the
+/// domain's corner there (deg) as the elements round it add up.
+fn input_corner_angles(mesh: &crate::mesh::Mesh, domain: &Domain) -> Vec<(u32, f64)> {
     let at_vertex = input_vertices(domain);
     let mut at: Vec<(u32, f64)> = Vec::new();
     for (q, quad) in mesh.quads.iter().enumerate() {
@@ -196,8 +205,8 @@ fn sharpest_input_corner(mesh: &crate::mesh::Mesh, domain: &Domain) -> f64 {
     }
     at.sort_by_key(|a| a.0);
     at.chunk_by(|a, b| a.0 == b.0)
-        .map(|c| c.iter().map(|a| a.1).sum::<f64>())
-        .fold(360.0, f64::min)
+        .map(|c| (c[0].0, c.iter().map(|a| a.1).sum::<f64>()))
+        .collect()
 }
 
 /// Whether a point is at a vertex of the input (within a billionth of
@@ -367,21 +376,26 @@ impl Score {
 }
 
 /// Elements with a corner outside the bounds' window, but for a corner
-/// sharper than the window at a vertex of the input (an element there
-/// cannot do better than the input's corner).
+/// at a vertex of the input sharper than the window that the element
+/// takes whole (it cannot do better than the input's corner; an input
+/// corner of 83 deg split into two of 41.5 is outside, as the judge has
+/// it).
 fn corners_outside(
     mesh: &crate::mesh::Mesh,
     bounds: &crate::settings::ElementBounds,
     domain: &Domain,
 ) -> usize {
-    let at_vertex = input_vertices(domain);
+    let at_input = input_corner_angles(mesh, domain);
     (0..mesh.quads.len())
         .filter(|&q| {
-            let p = mesh.quad_points(q);
-            let angles = crate::geometry::quad_angles(p);
+            let quad = mesh.quads[q];
+            let angles = crate::geometry::quad_angles(mesh.quad_points(q));
             (0..4).any(|k| {
-                (angles[k] < bounds.lower_corner && !at_vertex(p[k]))
-                    || angles[k] > bounds.upper_corner + 1e-9
+                let lowest = match at_input.binary_search_by_key(&quad[k], |a| a.0) {
+                    Ok(i) => bounds.lower_corner.min(at_input[i].1 - 1e-6),
+                    Err(_) => bounds.lower_corner,
+                };
+                angles[k] < lowest || angles[k] > bounds.upper_corner + 1e-9
             })
         })
         .count()
