@@ -558,6 +558,15 @@ fn a_merge_never_parts_off_a_holes_ring_on_its_own() {
     meshed_valid_and_not_whole(&[1]);
 }
 
+/// The mesh is valid (conforming, convex, the domain's area) and every
+/// boundary and line segment is an element's edge; `what` names it.
+fn assert_sound(mesh: &freemesh::Mesh, domain: &Domain, what: &str) {
+    let loops = 1 + domain.hole_count() as u32;
+    let area = boundary_area(mesh, loops);
+    assert_eq!(mesh_fault(mesh.nodes(), mesh.quads(), area), None, "{what}");
+    assert_eq!(boundary_not_followed(mesh, loops), None, "{what}");
+}
+
 /// Meshes each seed's domain and checks the mesh (valid, every boundary
 /// and line segment an element's edge) and that the rules' elements were
 /// kept: no seed meshed whole by the triangle fallback.
@@ -567,14 +576,7 @@ fn meshed_valid_and_not_whole(seeds: &[u64]) {
         let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
         let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {})
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-        let loops = 1 + domain.hole_count() as u32;
-        let area = boundary_area(&r.mesh, loops);
-        assert_eq!(
-            mesh_fault(r.mesh.nodes(), r.mesh.quads(), area),
-            None,
-            "seed {seed}"
-        );
-        assert_eq!(boundary_not_followed(&r.mesh, loops), None, "seed {seed}");
+        assert_sound(&r.mesh, &domain, &format!("seed {seed}"));
         assert_eq!(
             r.stats.triangle_fallbacks,
             0,
@@ -635,14 +637,7 @@ fn a_free_mesh_out_of_bounds_is_meshed_again_in_blocks_and_the_better_kept() {
             "seed {seed}: {:?}",
             first.redesign
         );
-        let loops = 1 + domain.hole_count() as u32;
-        let area = boundary_area(&r.mesh, loops);
-        assert_eq!(
-            mesh_fault(r.mesh.nodes(), r.mesh.quads(), area),
-            None,
-            "seed {seed}"
-        );
-        assert_eq!(boundary_not_followed(&r.mesh, loops), None, "seed {seed}");
+        assert_sound(&r.mesh, &domain, &format!("seed {seed}"));
         let kept =
             mesh_free_then_blocks(&domain, None, &mut off, &opts, &mut |_| {}).expect("meshed");
         assert_eq!(kept.mesh.quads(), free.mesh.quads(), "seed {seed}");
@@ -678,10 +673,7 @@ fn a_domain_with_coarse_fixed_counts_is_retried_with_refining_on() {
         "{:?}",
         first.redesign
     );
-    let loops = 1 + domain.hole_count() as u32;
-    let area = boundary_area(&r.mesh, loops);
-    assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None);
-    assert_eq!(boundary_not_followed(&r.mesh, loops), None);
+    assert_sound(&r.mesh, &domain, "seed 200");
 }
 
 /// A domain without fixed counts is retried too, by the variants that do
@@ -727,10 +719,7 @@ fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
         let mut seen = retried.clone();
         seen.dedup();
         assert_eq!(seen, expected, "{seed}: {:?}", first.redesign);
-        let loops = 1 + domain.hole_count() as u32;
-        let area = boundary_area(&r.mesh, loops);
-        assert_eq!(mesh_fault(r.mesh.nodes(), r.mesh.quads(), area), None);
-        assert_eq!(boundary_not_followed(&r.mesh, loops), None);
+        assert_sound(&r.mesh, &domain, &format!("seed {seed}"));
     }
 }
 

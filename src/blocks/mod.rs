@@ -114,59 +114,30 @@ pub fn mesh_free_then_blocks(
     // a layout mostly of free blocks would mesh the domain free again
     let mut best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?
         .filter(|(b, _, _)| *b < score);
-    let best_outside =
-        |best: &Option<(Score, MeshResult, String)>| best.as_ref().map_or(score, |b| b.0).outside;
-    let sharpest = sharpest_input_corner(&free.mesh, domain);
-    let retry_above = settings.host.retry_sharpest_corner;
-    if best_outside(&best) > 0 && sharpest < retry_above {
-        tried.push(format!(
-            "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
-        ));
-    } else if best_outside(&best) > 0 {
-        let fixed_counts = has_fixed_counts(domain);
-        for (variant, bounds, needs) in kb.retry_variants()? {
-            // the first variant within the bounds ends the retries
-            if best_outside(&best) == 0 {
-                break;
-            }
-            if needs.iter().any(|n| n == "fixed_counts") && !fixed_counts {
-                continue;
-            }
-            let words = bounds
-                .iter()
-                .map(|(n, x)| format!("bound({n}, {x})"))
-                .collect::<Vec<_>>()
-                .join(", ");
-            let said = format!("retry {variant} ({words})");
-            let mut other = kb.with_bounds(&bounds)?;
-            let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
-                Ok(r) => r,
-                Err(e) => {
-                    tried.push(format!("{said}: {e}"));
+    if best.as_ref().map_or(score, |b| b.0).outside > 0 {
+        let sharpest = sharpest_input_corner(&free.mesh, domain);
+        let retry_above = settings.host.retry_sharpest_corner;
+        if sharpest < retry_above {
+            tried.push(format!(
+                "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
+            ));
+        } else {
+            let fixed_counts = has_fixed_counts(domain);
+            for (variant, bounds, needs) in kb.retry_variants()? {
+                // the first variant within the bounds ends the retries
+                let so_far = best.as_ref().map_or(score, |b| b.0);
+                if so_far.outside == 0 {
+                    break;
+                }
+                if needs.iter().any(|n| n == "fixed_counts") && !fixed_counts {
                     continue;
                 }
-            };
-            let s = Score::of(&r, &settings.element, domain);
-            tried.push(format!(
-                "{said}: {} elements out of bounds, {} irregular nodes",
-                s.outside, s.irregular
-            ));
-            let mut kept = (s, r, format!("retry({variant})"));
-            // and in blocks by those bounds too, where that mesh falls short
-            if s.outside > 0 {
-                let mut also = vec![];
-                let before = other.stats;
-                if let Some(b) = best_block_mesh(
-                    domain, &mut other, opts, &settings, before, share, &mut also,
-                )?
-                .filter(|(b, _, _)| *b < s)
-                {
-                    kept = (b.0, b.1, format!("retry({variant}, {})", b.2));
+                let retried = retry_variant(
+                    domain, kb, opts, &settings, share, &variant, &bounds, &mut tried,
+                )?;
+                if let Some(kept) = retried.filter(|k| k.0 < so_far) {
+                    best = Some(kept);
                 }
-                tried.extend(also.into_iter().map(|t| format!("{said}: {t}")));
-            }
-            if kept.0 < best.as_ref().map_or(score, |b| b.0) {
-                best = Some(kept);
             }
         }
     }
@@ -178,6 +149,54 @@ pub fn mesh_free_then_blocks(
         }
         None => Ok(with_first_step(free, "free", tried)),
     }
+}
+
+/// The domain meshed free on a knowledge base with `variant`'s `bounds`
+/// in place, and in blocks too where that mesh falls short: the better
+/// of the two, named as the trace's first step names it (`retry(V)`,
+/// `retry(V, layout(F))`); None if the free mesh failed. What each gave
+/// goes to `tried`, under the variant's name.
+#[allow(clippy::too_many_arguments)]
+fn retry_variant(
+    domain: &Domain,
+    kb: &KnowledgeBase,
+    opts: &Options,
+    settings: &crate::settings::Settings,
+    share: f64,
+    variant: &str,
+    bounds: &[(String, f64)],
+    tried: &mut Vec<String>,
+) -> Result<Option<(Score, MeshResult, String)>, Error> {
+    let words = bounds
+        .iter()
+        .map(|(n, x)| format!("bound({n}, {x})"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let said = format!("retry {variant} ({words})");
+    let mut other = kb.with_bounds(bounds)?;
+    let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
+        Ok(r) => r,
+        Err(e) => {
+            tried.push(format!("{said}: {e}"));
+            return Ok(None);
+        }
+    };
+    let s = Score::of(&r, &settings.element, domain);
+    tried.push(format!(
+        "{said}: {} elements out of bounds, {} irregular nodes",
+        s.outside, s.irregular
+    ));
+    if s.outside == 0 {
+        return Ok(Some((s, r, format!("retry({variant})"))));
+    }
+    let mut also = vec![];
+    let before = other.stats;
+    let blocks = best_block_mesh(domain, &mut other, opts, settings, before, share, &mut also)?;
+    tried.extend(also.into_iter().map(|t| format!("{said}: {t}")));
+    Ok(Some(match blocks.filter(|(b, _, _)| *b < s) {
+        Some((b, m, name)) => (b, m, format!("retry({variant}, {name})")),
+        None => (s, r, format!("retry({variant})")),
+    }))
 }
 
 /// The sharpest corner (deg) of the domain at a vertex of its input, as
@@ -391,11 +410,12 @@ fn corners_outside(
             let quad = mesh.quads[q];
             let angles = crate::geometry::quad_angles(mesh.quad_points(q));
             (0..4).any(|k| {
-                let lowest = match at_input.binary_search_by_key(&quad[k], |a| a.0) {
-                    Ok(i) => bounds.lower_corner.min(at_input[i].1 - 1e-6),
-                    Err(_) => bounds.lower_corner,
+                let excused = || match at_input.binary_search_by_key(&quad[k], |a| a.0) {
+                    Ok(i) => angles[k] >= at_input[i].1 - 1e-6,
+                    Err(_) => false,
                 };
-                angles[k] < lowest || angles[k] > bounds.upper_corner + 1e-9
+                angles[k] > bounds.upper_corner + 1e-9
+                    || (angles[k] < bounds.lower_corner && !excused())
             })
         })
         .count()

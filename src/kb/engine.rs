@@ -333,7 +333,7 @@ impl KnowledgeBase {
     /// each batch of `ask_bounded_fresh_all`. Worth it on a machine with
     /// a core to spare and a run of more than a fraction of a second.
     pub fn start_second_engine(&mut self) {
-        let user_files = self.files[BUILTIN_KB.len()..].to_vec();
+        let user_files = self.user_files().to_vec();
         self.second = Some(Self::second_engine_loading(user_files).0);
     }
 
@@ -344,12 +344,18 @@ impl KnowledgeBase {
     pub fn second_engine_loading(user_files: Vec<String>) -> SecondEngineLoading {
         // the engine is built on the thread that uses it (it cannot move)
         SecondEngineLoading(SecondEngine::start(move || {
-            let mut kb = KnowledgeBase::builtin().ok()?;
-            for f in &user_files {
-                kb.consult_file(f).ok()?;
-            }
+            let kb = KnowledgeBase::with_user_files(&user_files).ok()?;
             Some(Box::new(kb) as Box<dyn Answerer>)
         }))
+    }
+
+    /// The built-in rules, then `user_files` consulted in turn.
+    pub fn with_user_files(user_files: &[String]) -> Result<KnowledgeBase, KbError> {
+        let mut kb = KnowledgeBase::builtin()?;
+        for f in user_files {
+            kb.consult_file(f)?;
+        }
+        Ok(kb)
     }
 
     /// Takes a second engine started by `second_engine_loading` (with the

@@ -87,10 +87,7 @@ impl KnowledgeBase {
     /// place of the bounds of those names (a run on it leaves this one's
     /// rules and remembered answers as they are).
     pub fn with_bounds(&self, bounds: &[(String, f64)]) -> Result<KnowledgeBase, KbError> {
-        let mut kb = KnowledgeBase::builtin()?;
-        for f in self.user_files() {
-            kb.consult_file(f)?;
-        }
+        let mut kb = KnowledgeBase::with_user_files(self.user_files())?;
         for (name, value) in bounds {
             kb.run(&terms::set_bound_question(name, *value))?;
         }
