@@ -15,6 +15,7 @@ mod vocabulary;
 
 pub use engine::{KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
 pub use error::KbError;
+pub use questions::RetryVariant;
 pub use vocabulary::{
     Action, Context, Corner, Designed, ElementEdge, ElementNode, FrontFacts, PatternKind,
     Redesigned, Relation,

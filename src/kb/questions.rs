@@ -83,11 +83,14 @@ impl KnowledgeBase {
         Ok(variants)
     }
 
-    /// A knowledge base of its own with this one's files and `bounds` in
-    /// place of the bounds of those names (a run on it leaves this one's
-    /// rules and remembered answers as they are).
-    pub fn with_bounds(&self, bounds: &[(String, f64)]) -> Result<KnowledgeBase, KbError> {
-        let mut kb = KnowledgeBase::with_user_files(self.user_files())?;
+    /// A knowledge base of its own with the built-in rules, `user_files`
+    /// and `bounds` in place of the bounds of those names (built on the
+    /// thread that calls it, which alone may use it).
+    pub fn with_bounds(
+        user_files: &[String],
+        bounds: &[(String, f64)],
+    ) -> Result<KnowledgeBase, KbError> {
+        let mut kb = KnowledgeBase::with_user_files(user_files)?;
         for (name, value) in bounds {
             kb.run(&terms::set_bound_question(name, *value))?;
         }
