@@ -590,6 +590,13 @@ fn mesh_one(
                 ph.blocks
             );
         }
+        if ph.retries > 0.0 {
+            eprintln!(
+                "{}: retries {:.3} s (meshed again with the bounds of retry_bound/3's variants, as many at once as there are cores; the kept mesh's own stages below)",
+                domain.name(),
+                ph.retries
+            );
+        }
         eprintln!(
             "{}: engine start {:.3} s (before the run: built, rules consulted); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
             domain.name(),
@@ -598,7 +605,7 @@ fn mesh_one(
             ph.recursion,
             ph.smoothing,
             ph.check,
-            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check - ph.blocks
+            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check - ph.blocks - ph.retries
         );
     }
     Ok(())

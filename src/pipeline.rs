@@ -203,6 +203,9 @@ pub struct Phases {
     /// finishing of those not kept (the kept one's is in smoothing and
     /// check).
     pub blocks: f64,
+    /// Where the best mesh fell short: the meshes of `retry_bound/3`'s
+    /// variants (wall time: as many at once as there are cores).
+    pub retries: f64,
 }
 
 /// A domain's boundary made ready for a run: discretised, the cutting

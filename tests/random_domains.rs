@@ -698,8 +698,27 @@ fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
             "{seed}: {:?}",
             free.quality
         );
+        let t0 = std::time::Instant::now();
         let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+        let wall = t0.elapsed().as_secs_f64();
         assert!(within_bounds(&r.quality, 45.0), "{seed}: {:?}", r.quality);
+        // the stages' times (the retries apart, the kept mesh's own
+        // counted once) add up to no more than the call took
+        let ph = &r.phases;
+        let stages = [
+            ph.prepare,
+            ph.recursion,
+            ph.smoothing,
+            ph.check,
+            ph.blocks,
+            ph.retries,
+        ];
+        assert!(stages.iter().all(|&t| t >= 0.0), "{seed}: {ph:?}");
+        assert!(ph.blocks > 0.0 && ph.retries > 0.0, "{seed}: {ph:?}");
+        assert!(
+            stages.iter().sum::<f64>() <= wall + 1e-3,
+            "{seed}: {ph:?} in {wall} s"
+        );
         let first = &r.trace[0];
         assert_eq!(
             first.action,

@@ -107,6 +107,8 @@ pub fn mesh_free_then_blocks(
     if score.outside == 0 {
         return Ok(free);
     }
+    let blocks_started = std::time::Instant::now();
+    let mut retries_time = 0.0;
     let mut tried = vec![format!(
         "free: {} elements out of bounds, {} irregular nodes; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
         score.outside, score.irregular
@@ -131,6 +133,7 @@ pub fn mesh_free_then_blocks(
             let user_files = kb.user_files().to_vec();
             let so_far = best.as_ref().map_or(score, |b| b.0);
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            let retries_started = std::time::Instant::now();
             let retries = retry_in_parallel(
                 domain,
                 &user_files,
@@ -140,6 +143,7 @@ pub fn mesh_free_then_blocks(
                 &variants,
                 cores,
             );
+            retries_time = retries_started.elapsed().as_secs_f64();
             for (retried, said) in retries {
                 let so_far = best.as_ref().map_or(so_far, |b| b.0);
                 tried.extend(said);
@@ -151,11 +155,26 @@ pub fn mesh_free_then_blocks(
     }
     match best {
         Some((_, mut r, name)) => {
-            r.phases.blocks = started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+            let ph = &mut r.phases;
+            let own = ph.prepare + ph.recursion + ph.smoothing + ph.check;
+            let before_retries = started.elapsed().as_secs_f64() - retries_time;
+            if name.starts_with("retry(") {
+                // the kept mesh's own stages are among the retries
+                ph.blocks = before_retries;
+                ph.retries = retries_time - own;
+            } else {
+                ph.blocks = before_retries - ph.smoothing - ph.check;
+                ph.retries = retries_time;
+            }
             progress(r.mesh.quads.len());
             Ok(with_first_step(r, &name, tried))
         }
-        None => Ok(with_first_step(free, "free", tried)),
+        None => {
+            let mut free = free;
+            free.phases.blocks = blocks_started.elapsed().as_secs_f64() - retries_time;
+            free.phases.retries = retries_time;
+            Ok(with_first_step(free, "free", tried))
+        }
     }
 }
 
