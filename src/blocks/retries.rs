@@ -1,0 +1,163 @@
+//! Retries: where a uniform run's free and block meshes both fall short,
+//! the domain is meshed again with each variant of `retry_bound/3` (the
+//! bounds it names in place), free and then in blocks, the variants side
+//! by side on the machine's cores.
+
+use super::{best_block_mesh, Score};
+use crate::input::domain::Domain;
+use crate::kb::KnowledgeBase;
+use crate::pipeline::{mesh_domain, Error, MeshResult, Options};
+
+/// What one retry gave, and its lines for the trace.
+type Retried = (
+    Result<Option<(Score, MeshResult, String)>, Error>,
+    Vec<String>,
+);
+
+/// The retries of `variants`, as if made one after another in their
+/// order until the first within the bounds: that one and those before it,
+/// in order. Each meshes on an engine of its own, so as many run at once
+/// as there are cores, each core taking the next variant as it is free;
+/// a variant after one found within the bounds is not begun, and one
+/// begun before is dropped, trace lines and all.
+pub(super) fn retry_in_parallel(
+    domain: &Domain,
+    user_files: &[String],
+    opts: &Options,
+    settings: &crate::settings::Settings,
+    share: f64,
+    variants: &[crate::kb::RetryVariant],
+    workers: usize,
+) -> Vec<Retried> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    // the first variant found within the bounds (those after it are not needed)
+    let within = AtomicUsize::new(usize::MAX);
+    let done: Mutex<Vec<Option<Retried>>> = Mutex::new((0..variants.len()).map(|_| None).collect());
+    let work = || loop {
+        let i = next.fetch_add(1, Ordering::SeqCst);
+        if i >= variants.len() || i > within.load(Ordering::SeqCst) {
+            return;
+        }
+        let (variant, bounds, _) = &variants[i];
+        let mut said = Vec::new();
+        let r = retry_variant(
+            domain, user_files, opts, settings, share, variant, bounds, &mut said,
+        );
+        if matches!(&r, Ok(Some((s, _, _))) if s.outside == 0) {
+            within.fetch_min(i, Ordering::SeqCst);
+        }
+        done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some((r, said));
+    };
+    std::thread::scope(|scope| {
+        let helpers: Vec<_> = (1..workers.min(variants.len()))
+            .map(|_| scope.spawn(work))
+            .collect();
+        work();
+        for h in helpers {
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        }
+    });
+    let last = within.load(Ordering::SeqCst);
+    let done = done.into_inner().unwrap_or_else(|e| e.into_inner());
+    done.into_iter()
+        .take(last.saturating_add(1))
+        .flatten()
+        .collect()
+}
+
+/// The domain meshed free on a knowledge base with `variant`'s `bounds`
+/// in place, and in blocks too where that mesh falls short: the better
+/// of the two, named as the trace's first step names it (`retry(V)`,
+/// `retry(V, layout(F))`); None if the free mesh failed. What each gave
+/// goes to `tried`, under the variant's name.
+#[allow(clippy::too_many_arguments)]
+fn retry_variant(
+    domain: &Domain,
+    user_files: &[String],
+    opts: &Options,
+    settings: &crate::settings::Settings,
+    share: f64,
+    variant: &str,
+    bounds: &[(String, f64)],
+    tried: &mut Vec<String>,
+) -> Result<Option<(Score, MeshResult, String)>, Error> {
+    let words = bounds
+        .iter()
+        .map(|(n, x)| format!("bound({n}, {x})"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let said = format!("retry {variant} ({words})");
+    let mut other = KnowledgeBase::with_bounds(user_files, bounds)?;
+    let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
+        Ok(r) => r,
+        Err(e) => {
+            tried.push(format!("{said}: {e}"));
+            return Ok(None);
+        }
+    };
+    let s = Score::of(&r, &settings.element, domain);
+    tried.push(format!(
+        "{said}: {} elements out of bounds, {} irregular nodes",
+        s.outside, s.irregular
+    ));
+    if s.outside == 0 {
+        return Ok(Some((s, r, format!("retry({variant})"))));
+    }
+    let mut also = vec![];
+    let before = other.stats;
+    let blocks = best_block_mesh(domain, &mut other, opts, settings, before, share, &mut also)?;
+    tried.extend(also.into_iter().map(|t| format!("{said}: {t}")));
+    Ok(Some(match blocks.filter(|(b, _, _)| *b < s) {
+        Some((b, m, name)) => (b, m, format!("retry({variant}, {name})")),
+        None => (s, r, format!("retry({variant})")),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn variants() -> Vec<crate::kb::RetryVariant> {
+        ["a", "b", "c"]
+            .iter()
+            .zip([
+                ("min_front_angle", 20.0),
+                ("near_node", 0.4),
+                ("near_horizontal", 0.2),
+            ])
+            .map(|(v, (n, x))| (v.to_string(), vec![(n.to_string(), x)], vec![]))
+            .collect()
+    }
+
+    /// What each retry said for the trace, and its score.
+    fn retried(domain: &str, workers: usize) -> Vec<(Vec<String>, Option<Score>)> {
+        let domain = Domain::from_json_str(domain).unwrap();
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let settings = kb.settings().unwrap();
+        let opts = Options::default();
+        retry_in_parallel(&domain, &[], &opts, &settings, 0.5, &variants(), workers)
+            .into_iter()
+            .map(|(r, said)| (said, r.unwrap().map(|k| k.0)))
+            .collect()
+    }
+
+    #[test]
+    fn retries_made_at_once_give_what_one_after_another_gives() {
+        // within the bounds at the first variant: the others dropped
+        let square = r#"{"name": "sq", "size": 1, "outer": {"points": [[0,0],[4,0],[4,4],[0,4]]}}"#;
+        let alone = retried(square, 1);
+        assert_eq!(alone.len(), 1);
+        assert_eq!(alone[0].1.map(|s| s.outside), Some(0));
+        assert_eq!(retried(square, 2), alone);
+        // a 7.6-degree tip no element meets the bounds at: all three, in order
+        let spike = r#"{"name": "spike", "size": 1, "outer": {"points": [[0,0],[6,0],[6,0.8]]}}"#;
+        let alone = retried(spike, 1);
+        let starts: Vec<&str> = alone.iter().map(|(said, _)| &said[0][..7]).collect();
+        assert_eq!(starts, ["retry a", "retry b", "retry c"]);
+        assert!(alone.iter().all(|(_, s)| s.is_some_and(|s| s.outside > 0)));
+        assert_eq!(retried(spike, 2), alone);
+        assert_eq!(retried(spike, 3), alone);
+    }
+}
