@@ -742,16 +742,22 @@ fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
     }
 }
 
+/// Seed's domain meshed free, then in blocks and retried where it falls
+/// short, with its trace.
+fn free_then_blocks(seed: u64) -> freemesh::MeshResult {
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
+    mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed")
+}
+
 /// No retry where an input corner is too sharp for any element at it to
 /// meet the taper bound (`bound(retry_sharpest_corner, 8.1)`): a spike of
 /// 5 deg (seed 1048) stays outside the bounds, its trace saying why no
 /// retry was made, and none was.
 #[test]
 fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
-    let domain = Domain::from_json(&generate(1048)).expect("a valid domain");
-    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let r = free_then_blocks(1048);
     assert!(!within_bounds(&r.quality, 4.0), "{:?}", r.quality);
     let said = &r.trace[0].redesign;
     assert!(
@@ -769,10 +775,7 @@ fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
 /// a sharp input corner taken whole, and kept the mesh as within).
 #[test]
 fn a_split_input_corner_under_the_window_counts_as_outside() {
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
-    let domain = Domain::from_json(&generate(419)).expect("a valid domain");
-    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let r = free_then_blocks(419);
     let said = &r.trace[0].redesign;
     let layout = said
         .iter()

@@ -98,7 +98,7 @@ pub fn mesh_free_then_blocks(
             discretise_for_run(domain, opts.size)?
         }
     };
-    let (free, (settings, graded)) =
+    let (mut free, (settings, graded)) =
         crate::pipeline::mesh_boundary_by(domain, boundary, kb, opts, progress)?;
     let share = settings.host.blocks_when_out_of_bounds;
     if share <= 0.0 || graded {
@@ -110,6 +110,7 @@ pub fn mesh_free_then_blocks(
     }
     let blocks_started = std::time::Instant::now();
     let mut retries_time = 0.0;
+    let mut retry_kept = false;
     let mut tried = vec![format!(
         "free: {} elements out of bounds, {} irregular nodes; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
         score.outside, score.irregular
@@ -132,7 +133,6 @@ pub fn mesh_free_then_blocks(
                 .filter(|(_, _, needs)| fixed_counts || !needs.iter().any(|n| n == "fixed_counts"))
                 .collect();
             let user_files = kb.user_files().to_vec();
-            let so_far = best.as_ref().map_or(score, |b| b.0);
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
             let retries_started = std::time::Instant::now();
             let retries = retries::retry_in_parallel(
@@ -146,10 +146,11 @@ pub fn mesh_free_then_blocks(
             );
             retries_time = retries_started.elapsed().as_secs_f64();
             for (retried, said) in retries {
-                let so_far = best.as_ref().map_or(so_far, |b| b.0);
+                let so_far = best.as_ref().map_or(score, |b| b.0);
                 tried.extend(said);
                 if let Some(kept) = retried?.filter(|k| k.0 < so_far) {
                     best = Some(kept);
+                    retry_kept = true;
                 }
             }
         }
@@ -159,7 +160,7 @@ pub fn mesh_free_then_blocks(
             let ph = &mut r.phases;
             let own = ph.prepare + ph.recursion + ph.smoothing + ph.check;
             let before_retries = started.elapsed().as_secs_f64() - retries_time;
-            if name.starts_with("retry(") {
+            if retry_kept {
                 // the kept mesh's own stages are among the retries
                 ph.blocks = before_retries;
                 ph.retries = retries_time - own;
@@ -171,7 +172,6 @@ pub fn mesh_free_then_blocks(
             Ok(with_first_step(r, &name, tried))
         }
         None => {
-            let mut free = free;
             free.phases.blocks = blocks_started.elapsed().as_secs_f64() - retries_time;
             free.phases.retries = retries_time;
             Ok(with_first_step(free, "free", tried))
