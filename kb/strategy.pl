@@ -142,6 +142,15 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   across the tip are at most 1.41 sin(tip/2) times those along it, a
 %   taper above 10 under 8.1 deg, so no retry would come within the
 %   bounds (the trace's first step says so).
+% blocks_first: a uniform run (no --blocks, no cracks) is meshed in
+%   blocks first (the paper's Fig. 17: the rules lay out mapping
+%   elements at a coarse size, each meshed as a structured grid), on the
+%   layouts with at most blocks_when_out_of_bounds of their blocks free;
+%   where one is within the bounds it is kept and no free mesh is made:
+%   on the public domains a tenth to a quarter of the free meshes'
+%   irregular interior nodes, in less time. Where none is, the domain is
+%   meshed free and the better of the two kept, as above. 0: the free
+%   mesh first, blocks only where it falls short.
 % fallback_reopen_rings: where the rules' elements lost a boundary or line
 %   segment (no element has it as an edge), the elements within this many
 %   rings of it, and those across it, are meshed again by triangles split
@@ -197,6 +206,7 @@ bound(block_arc_step, 45).
 bound(four_sided_pairs, 2).
 bound(blocks_when_out_of_bounds, 0.5).
 bound(retry_sharpest_corner, 8.1).
+bound(blocks_first, 1).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).

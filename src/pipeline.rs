@@ -481,6 +481,26 @@ pub fn prepare_run(
     })
 }
 
+impl PreparedRun {
+    /// The settings the run read from the KB.
+    pub(crate) fn settings(&self) -> &crate::settings::Settings {
+        self.prepared.settings()
+    }
+
+    /// Whether the run is graded (an interior limit above the size).
+    pub(crate) fn is_graded(&self) -> bool {
+        self.prepared.is_graded()
+    }
+
+    /// The run's clock and its count of KB questions started again, for
+    /// a run started after other work with the same KB (the blocks
+    /// tried first): its stages then count its own time only.
+    pub(crate) fn restart_clock(&mut self, kb: &KnowledgeBase) {
+        self.kb_before = kb.stats;
+        self.t0 = Instant::now();
+    }
+}
+
 impl<'k> Run<'k> {
     /// Starts a prepared run.
     pub fn start(kb: &'k mut KnowledgeBase, p: PreparedRun) -> Run<'k> {

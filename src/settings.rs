@@ -241,6 +241,11 @@ pub struct HostBounds {
     /// element at it meets the taper bound, so none would come within
     /// the bounds (see blocks/mod.rs, `mesh_free_then_blocks`).
     pub retry_sharpest_corner: f64,
+    /// `blocks_first`: a uniform run (without `--blocks`, no cracks) is
+    /// meshed in blocks first, and where a layout's mesh is within the
+    /// bounds it is kept and no free mesh made (0: the free mesh first;
+    /// see blocks/mod.rs, `mesh_free_then_blocks`).
+    pub blocks_first: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -278,13 +283,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 25] = [
+    pub const BUILT_IN: [f64; 26] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 25] = [
+    pub const NAMES: [&'static str; 26] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -310,13 +315,14 @@ impl HostBounds {
         "four_sided_pairs",
         "blocks_when_out_of_bounds",
         "retry_sharpest_corner",
+        "blocks_first",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 25]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner] =
+    pub fn new(v: [f64; 26]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -344,6 +350,7 @@ impl HostBounds {
             (0.0, 3.0),
             (0.0, 2.0),
             (0.0, 180.0),
+            (0.0, 2.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -380,6 +387,7 @@ impl HostBounds {
             four_sided_pairs,
             blocks_when_out_of_bounds,
             retry_sharpest_corner,
+            blocks_first,
         })
     }
 }

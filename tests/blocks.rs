@@ -3,7 +3,9 @@
 //! each meshed as a structured grid, so irregular nodes sit only where
 //! the layout has them.
 
-use freemesh::{mesh_domain, mesh_in_blocks, Domain, KnowledgeBase, MeshResult, Options};
+use freemesh::{
+    mesh_domain, mesh_free_then_blocks, mesh_in_blocks, Domain, KnowledgeBase, MeshResult, Options,
+};
 
 fn domain(v: serde_json::Value) -> Domain {
     Domain::from_json(&v).expect("a valid domain")
@@ -128,6 +130,38 @@ fn blocks_leave_far_fewer_irregular_nodes_than_the_free_mesh_and_the_trace_shows
         blocks.trace.iter().any(|t| t.by == freemesh::By::Rule),
         "the layout's rules are traced"
     );
+}
+
+/// A uniform run without `--blocks` is meshed in blocks first
+/// (`bound(blocks_first, 1)`): on plate-holes a layout is within the
+/// bounds, so it is kept (the blocks mesh of `--blocks`, the trace's
+/// first step saying why) and no free mesh is made; with
+/// `bound(blocks_first, 0)` the free mesh comes first and, within the
+/// bounds, is kept as `mesh_domain` makes it.
+#[test]
+fn a_uniform_run_is_meshed_in_blocks_first_where_a_layout_is_within_the_bounds() {
+    let d = load("../shared/bench/domains/plate-holes.json");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    within_the_bounds(&r, "plate-holes");
+    let blocks = in_blocks(&mut kb, &d);
+    assert_eq!(r.mesh.quads(), blocks.mesh.quads());
+    let first = &r.trace[0];
+    assert!(first.action.starts_with("layout("), "{first:?}");
+    assert_eq!(first.redesign[0], "blocks first (bound(blocks_first, 1))");
+    assert!(
+        !first.redesign.iter().any(|t| t.starts_with("free")),
+        "no free mesh was made: {:?}",
+        first.redesign
+    );
+    let mut free_first = KnowledgeBase::builtin().unwrap();
+    free_first.consult_file("tests/kb/free-first.pl").unwrap();
+    let kept = mesh_free_then_blocks(&d, None, &mut free_first, &opts, &mut |_| {}).unwrap();
+    let free = mesh_domain(&d, &mut kb, &opts, &mut |_| {}).unwrap();
+    assert_eq!(kept.mesh.quads(), free.mesh.quads());
+    assert_eq!(kept.trace.len(), free.trace.len());
+    assert!(4 * irregular(&r) < irregular(&free));
 }
 
 #[test]

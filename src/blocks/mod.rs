@@ -75,13 +75,16 @@ pub fn mesh_in_blocks(
     Ok(with_first_step(free, "free", tried))
 }
 
-/// Meshes `domain` free by the rules, as `mesh_boundary` does (from
-/// `boundary` where the caller made it ready); where that mesh has
-/// elements outside the bounds, the domain is also meshed in blocks, on
-/// the layouts with at most `bound(blocks_when_out_of_bounds, S)` of
-/// their blocks free (0: never), and the mesh with fewer elements outside
-/// kept (the trace's first step says which, and what each gave).
-/// A graded run, and a domain with cracks, keep the free mesh.
+/// Meshes `domain` by the rules for a uniform run without `--blocks`:
+/// in blocks first (`bound(blocks_first, 1)`), on the layouts with at
+/// most `bound(blocks_when_out_of_bounds, S)` of their blocks free (0:
+/// never), a layout's mesh within the bounds kept and no free mesh made;
+/// else free by the rules, as `mesh_boundary` does (from `boundary`
+/// where the caller made it ready), and where that mesh has elements
+/// outside the bounds, the better of the two kept, then the retries of
+/// `retry_bound/3`. The trace's first step says which mesh was kept, and
+/// what each tried gave. A graded run, and a domain with cracks, are
+/// meshed free.
 pub fn mesh_free_then_blocks(
     domain: &Domain,
     boundary: Option<crate::pipeline::RunBoundary>,
@@ -98,26 +101,68 @@ pub fn mesh_free_then_blocks(
             discretise_for_run(domain, opts.size)?
         }
     };
-    let (mut free, (settings, graded)) =
-        crate::pipeline::mesh_boundary_by(domain, boundary, kb, opts, progress)?;
+    let mut prepared = prepare_run(domain, boundary, kb, opts)?;
+    let settings = prepared.settings().clone();
+    let graded = prepared.is_graded();
     let share = settings.host.blocks_when_out_of_bounds;
+    let cracked = domain.lines.iter().any(|l| l.crack);
+    let mut tried: Vec<String> = Vec::new();
+    // the blocks first: where a layout's mesh is within the bounds, no
+    // free mesh is made (None: not tried)
+    let mut first_blocks = None;
+    if settings.host.blocks_first > 0.0 && share > 0.0 && !graded && !cracked {
+        tried.push(format!(
+            "blocks first (bound(blocks_first, {}))",
+            settings.host.blocks_first
+        ));
+        let best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?;
+        if let Some((b, mut r, name)) = best {
+            if b.outside == 0 {
+                r.phases.blocks =
+                    started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+                progress(r.mesh.quads.len());
+                return Ok(with_first_step(r, &name, tried));
+            }
+            first_blocks = Some(Some((b, r, name)));
+        } else {
+            first_blocks = Some(None);
+        }
+        prepared.restart_clock(kb);
+    }
+    let before_free = started.elapsed().as_secs_f64();
+    let mut free = {
+        let mut run = Run::start(kb, prepared);
+        run.recursion(progress)?;
+        run.finish()?
+    };
     if share <= 0.0 || graded {
         return Ok(free);
     }
     let score = Score::of(&free, &settings.element, domain);
     if score.outside == 0 {
+        if first_blocks.is_some() {
+            // the blocks' time before it, and what they gave, told
+            free.phases.blocks = before_free;
+            tried.push(format!(
+                "free: within the bounds, {} irregular nodes",
+                score.irregular
+            ));
+            return Ok(with_first_step(free, "free", tried));
+        }
         return Ok(free);
     }
-    let blocks_started = std::time::Instant::now();
-    let mut retries_time = 0.0;
-    let mut retry_kept = false;
-    let mut tried = vec![format!(
+    tried.push(format!(
         "free: {} elements out of bounds, {} irregular nodes; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
         score.outside, score.irregular
-    )];
+    ));
     // a layout mostly of free blocks would mesh the domain free again
-    let mut best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?
-        .filter(|(b, _, _)| *b < score);
+    let best = match first_blocks {
+        Some(best) => best,
+        None => best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?,
+    };
+    let mut best = best.filter(|(b, _, _)| *b < score);
+    let mut retries_time = 0.0;
+    let mut retry_kept = false;
     if best.as_ref().map_or(score, |b| b.0).outside > 0 {
         let sharpest = sharpest_input_corner(&free.mesh, domain);
         let retry_above = settings.host.retry_sharpest_corner;
@@ -172,7 +217,13 @@ pub fn mesh_free_then_blocks(
             Ok(with_first_step(r, &name, tried))
         }
         None => {
-            free.phases.blocks = blocks_started.elapsed().as_secs_f64() - retries_time;
+            // the blocks', before the free mesh and after it
+            free.phases.blocks = started.elapsed().as_secs_f64()
+                - retries_time
+                - (free.phases.prepare
+                    + free.phases.recursion
+                    + free.phases.smoothing
+                    + free.phases.check);
             free.phases.retries = retries_time;
             Ok(with_first_step(free, "free", tried))
         }
@@ -454,6 +505,10 @@ fn with_first_step(mut r: MeshResult, action: &str, tried: Vec<String>) -> MeshR
             },
         );
         renumber(&mut r.trace);
+        // each step is one later now: the vetoes before it too
+        for v in &mut r.vetoes {
+            v.before_step += 1;
+        }
     }
     r
 }
