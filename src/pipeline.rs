@@ -399,26 +399,19 @@ pub fn mesh_boundary(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
-    mesh_boundary_by(domain, run_boundary, kb, opts, progress).map(|(r, _)| r)
+    let prepared = prepare_run(domain, run_boundary, kb, opts)?;
+    mesh_prepared(kb, prepared, progress)
 }
 
-/// `mesh_boundary`, with the settings the run read from the KB and
-/// whether it was graded.
-pub(crate) fn mesh_boundary_by(
-    domain: &Domain,
-    run_boundary: RunBoundary,
+/// A prepared run meshed to the end: the recursion, then `finish`.
+pub(crate) fn mesh_prepared(
     kb: &mut KnowledgeBase,
-    opts: &Options,
+    prepared: PreparedRun,
     progress: &mut dyn FnMut(usize),
-) -> Result<(MeshResult, (crate::settings::Settings, bool)), Error> {
-    let prepared = prepare_run(domain, run_boundary, kb, opts)?;
-    let read = (
-        prepared.prepared.settings().clone(),
-        prepared.prepared.is_graded(),
-    );
+) -> Result<MeshResult, Error> {
     let mut run = Run::start(kb, prepared);
     run.recursion(progress)?;
-    Ok((run.finish()?, read))
+    run.finish()
 }
 
 /// A run in progress: the recursion can be taken a step at a time (the

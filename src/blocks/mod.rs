@@ -105,12 +105,11 @@ pub fn mesh_free_then_blocks(
     let settings = prepared.settings().clone();
     let graded = prepared.is_graded();
     let share = settings.host.blocks_when_out_of_bounds;
-    let cracked = domain.lines.iter().any(|l| l.crack);
     let mut tried: Vec<String> = Vec::new();
     // the blocks first: where a layout's mesh is within the bounds, no
     // free mesh is made (None: not tried)
     let mut first_blocks = None;
-    if settings.host.blocks_first > 0.0 && share > 0.0 && !graded && !cracked {
+    if settings.host.blocks_first > 0.0 && share > 0.0 && !graded && !has_cracks(domain) {
         tried.push(format!(
             "blocks first (bound(blocks_first, {}))",
             settings.host.blocks_first
@@ -130,11 +129,7 @@ pub fn mesh_free_then_blocks(
         prepared.restart_clock(kb);
     }
     let before_free = started.elapsed().as_secs_f64();
-    let mut free = {
-        let mut run = Run::start(kb, prepared);
-        run.recursion(progress)?;
-        run.finish()?
-    };
+    let mut free = crate::pipeline::mesh_prepared(kb, prepared, progress)?;
     if share <= 0.0 || graded {
         return Ok(free);
     }
@@ -278,6 +273,12 @@ fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
     }
 }
 
+/// Whether an inner line of `domain` is a crack (such a domain is meshed
+/// free, never in blocks).
+fn has_cracks(domain: &Domain) -> bool {
+    domain.lines.iter().any(|l| l.crack)
+}
+
 /// Whether an edge of `domain` has a fixed segment count (a retry of
 /// `retry_bound/3` may need one: `retry_needs(V, fixed_counts)`).
 fn has_fixed_counts(domain: &Domain) -> bool {
@@ -308,7 +309,7 @@ fn best_block_mesh(
     // step, the words its line in that step starts with, and its place
     // among equals (the four-sided patches, then the coarser layout first)
     let mut candidates: Vec<(usize, String, String, f64, Outcome)> = Vec::new();
-    if domain.lines.iter().any(|l| l.crack) {
+    if has_cracks(domain) {
         tried.push("a domain with cracks is meshed free".into());
     } else {
         let max_pairs = settings.host.four_sided_pairs as usize;
