@@ -151,6 +151,20 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   irregular interior nodes, in less time. Where none is, the domain is
 %   meshed free and the better of the two kept, as above. 0: the free
 %   mesh first, blocks only where it falls short.
+% out_of_bounds_step: where every mesh tried (free, blocks, retries)
+%   falls short of the bounds, the one kept has the fewest elements out
+%   of bounds, each counted once more for every this many degrees its
+%   worst corner lies outside the window: one element at 2 deg is worse
+%   than four at 42 (the trace gives the weight where it differs from
+%   the count). 0: each element once.
+% coarse_boundary_grading: a domain without max_size may coarsen inside
+%   as far as a smooth transition from its boundary allows (the format's
+%   promise). Where fixed segment counts make a boundary segment longer
+%   than this many times the size, the interior may grow to the longest
+%   boundary segment: the size field grows from each segment's own
+%   length, so the rows along a coarse edge are not flattened to the
+%   size. Counts from the size give segments of at most 1.5 times it, so
+%   such domains stay uniform. The trace's first step says so. 0: never.
 % fallback_reopen_rings: where the rules' elements lost a boundary or line
 %   segment (no element has it as an edge), the elements within this many
 %   rings of it, and those across it, are meshed again by triangles split
@@ -207,6 +221,8 @@ bound(four_sided_pairs, 2).
 bound(blocks_when_out_of_bounds, 0.5).
 bound(retry_sharpest_corner, 8.1).
 bound(blocks_first, 1).
+bound(out_of_bounds_step, 5).
+bound(coarse_boundary_grading, 1.5).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
@@ -220,10 +236,14 @@ bound(closing_strict_size, 1.6).
 % place of the bounds of those names, in this order, until one mesh is
 % within the bounds; the mesh with fewest elements outside is kept and
 % the trace's first step says which.
-% refine_fixed_counts turns on the refining transition (feature refine,
-% action r3): off by default, as it did worse on the random domains with
-% coarse fixed counts than without, but better on some of those that
-% fall short otherwise.
+% uniform_at_the_size meshes a domain whose coarse fixed counts graded it
+% (coarse_boundary_grading) at the size instead, as without that bound:
+% where the graded mesh falls short, the uniform one is often within.
+% refine_fixed_counts meshes a coarse fixed count at the size (no
+% coarse_boundary_grading) with the refining transition on (feature
+% refine, action r3): off by default, as it did worse on the random
+% domains with coarse fixed counts than without, but better on some of
+% those that fall short otherwise.
 % The others each move one threshold of the design rules a little, so
 % that the fronts take other ways where they met badly: fronts that may
 % leave no corner under 20 deg (12), that merge only within 0.4 of the
@@ -231,9 +251,12 @@ bound(closing_strict_size, 1.6).
 %
 % ?- retry_bound(refine_fixed_counts, N, V).
 %    N = uniform_size_band, V = 1.5
-% ;  N = refine_ratio, V = 0.45.
+% ;  N = refine_ratio, V = 0.45
+% ;  N = coarse_boundary_grading, V = 0.
+retry_bound(uniform_at_the_size, coarse_boundary_grading, 0).
 retry_bound(refine_fixed_counts, uniform_size_band, 1.5).
 retry_bound(refine_fixed_counts, refine_ratio, 0.45).
+retry_bound(refine_fixed_counts, coarse_boundary_grading, 0).
 retry_bound(no_sharp_front_corners, min_front_angle, 20).
 retry_bound(fronts_merge_nearer, near_node, 0.4).
 retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
@@ -241,8 +264,10 @@ retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
 %% retry_needs(?Variant, ?What)
 %
 % A retry tried only on a domain with What: fixed_counts, an edge with a
-% fixed segment count.
+% fixed segment count; coarse_boundary, a run graded for fixed counts
+% coarser than the size (coarse_boundary_grading).
 %
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.
+retry_needs(uniform_at_the_size, coarse_boundary).
 retry_needs(refine_fixed_counts, fixed_counts).

@@ -442,6 +442,9 @@ pub struct PreparedRun {
     opts: Options,
     kb_before: KbStats,
     t0: Instant,
+    /// The interior's limit where the run is graded for a coarse boundary
+    /// without a `max_size` (see `coarse_boundary_limit`).
+    grown_to: Option<f64>,
 }
 
 /// Prepares a run over a domain whose boundary `discretise_for_run` made
@@ -461,8 +464,12 @@ pub fn prepare_run(
         disc, size, area, ..
     } = with_kb_bounds(domain, run_boundary, &settings)?;
     let boundary = disc.clone();
-    let prepared = Prepared::new(disc, size, area, settings)
-        .with_max_size(opts.max_size.or(domain.max_size()));
+    let user_limit = opts.max_size.or(domain.max_size());
+    let grown_to = match user_limit {
+        Some(_) => None,
+        None => coarse_boundary_limit(&disc, size, settings.host.coarse_boundary_grading),
+    };
+    let prepared = Prepared::new(disc, size, area, settings).with_max_size(user_limit.or(grown_to));
     Ok(PreparedRun {
         prepared,
         domain: domain.clone(),
@@ -471,7 +478,31 @@ pub fn prepare_run(
         opts: opts.clone(),
         kb_before,
         t0,
+        grown_to,
     })
+}
+
+/// Without a `max_size`, the format lets the interior grow as far as a
+/// smooth transition from the boundary allows. Where fixed segment counts
+/// make boundary segments coarser than `factor` times the size
+/// (`bound(coarse_boundary_grading, F)`), the interior may grow to the
+/// longest of them, so that the elements along a coarse edge are not
+/// flattened to the size (aspect ratios past 10, size jumps past 2, three
+/// times the elements of a mesh that follows the boundary). Returns that
+/// limit, or None (a uniform run at the size, as where every count comes
+/// from the size: those segments are at most 1.5 times it).
+fn coarse_boundary_limit(disc: &Discretised, size: f64, factor: f64) -> Option<f64> {
+    if factor <= 0.0 {
+        return None;
+    }
+    let nodes = &disc.mesh.nodes;
+    let longest = disc
+        .front_loops
+        .iter()
+        .flat_map(|l| (0..l.len()).map(move |i| (l[i], l[(i + 1) % l.len()])))
+        .map(|(a, b)| (nodes[a as usize] - nodes[b as usize]).length())
+        .fold(0.0, f64::max);
+    (longest > factor * size).then_some(longest)
 }
 
 impl PreparedRun {
@@ -483,6 +514,23 @@ impl PreparedRun {
     /// Whether the run is graded (an interior limit above the size).
     pub(crate) fn is_graded(&self) -> bool {
         self.prepared.is_graded()
+    }
+
+    /// Whether the run is graded by the user's `max_size` (not only for
+    /// a coarse boundary).
+    pub(crate) fn is_graded_by_user(&self) -> bool {
+        self.is_graded() && self.grown_to.is_none()
+    }
+
+    /// The trace's words where the run is graded for a coarse boundary
+    /// without a `max_size`.
+    pub(crate) fn grown_to_words(&self) -> Option<String> {
+        let limit = self.grown_to?;
+        let factor = self.prepared.settings().host.coarse_boundary_grading;
+        Some(format!(
+            "no max_size, boundary segments up to {:.3} times the size (over bound(coarse_boundary_grading, {factor})): the interior may grow to {limit:.6}",
+            limit / self.size
+        ))
     }
 
     /// The run's clock and its count of KB questions started again, for

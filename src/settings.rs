@@ -246,6 +246,16 @@ pub struct HostBounds {
     /// bounds it is kept and no free mesh made (0: the free mesh first;
     /// see blocks/mod.rs, `mesh_free_then_blocks`).
     pub blocks_first: f64,
+    /// `out_of_bounds_step`: where every mesh tried falls short of the
+    /// bounds, the one kept has the fewest elements out of bounds, each
+    /// counted once more for every this many degrees its worst corner
+    /// lies outside the window (0: each once; see blocks/mod.rs, `Score`).
+    pub out_of_bounds_step: f64,
+    /// `coarse_boundary_grading`: without a `max_size`, where fixed
+    /// counts make a boundary segment longer than this many times the
+    /// size, the interior may grow to the longest segment (0: never; see
+    /// pipeline.rs, `coarse_boundary_limit`).
+    pub coarse_boundary_grading: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -283,13 +293,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 26] = [
+    pub const BUILT_IN: [f64; 28] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 26] = [
+    pub const NAMES: [&'static str; 28] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -316,13 +326,15 @@ impl HostBounds {
         "blocks_when_out_of_bounds",
         "retry_sharpest_corner",
         "blocks_first",
+        "out_of_bounds_step",
+        "coarse_boundary_grading",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 26]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first] =
+    pub fn new(v: [f64; 28]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -351,6 +363,8 @@ impl HostBounds {
             (0.0, 2.0),
             (0.0, 180.0),
             (0.0, 2.0),
+            (0.0, 180.0),
+            (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -388,6 +402,8 @@ impl HostBounds {
             blocks_when_out_of_bounds,
             retry_sharpest_corner,
             blocks_first,
+            out_of_bounds_step,
+            coarse_boundary_grading,
         })
     }
 }

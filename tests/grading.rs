@@ -4,7 +4,9 @@
 //! refine, r3, for fixed counts coarser than the size, opt-in) and
 //! seen in the trace.
 
-use freemesh::{mesh_domain, Domain, KnowledgeBase, MeshResult, Options, UserAnswer};
+use freemesh::{
+    mesh_domain, mesh_free_then_blocks, Domain, KnowledgeBase, MeshResult, Options, UserAnswer,
+};
 
 fn domain(v: serde_json::Value) -> Domain {
     Domain::from_json(&v).expect("a valid domain")
@@ -262,6 +264,51 @@ fn plate_with_a_coarse_top() -> Domain {
         "name": "coarse-top", "size": 0.25,
         "outer": { "points": [[0, 0], [8, 0], [8, 3], [0, 3]], "segments": [0, 0, 8, 0] }
     }))
+}
+
+/// Without a max_size, fixed counts coarser than the size grade the run
+/// (`bound(coarse_boundary_grading, 1.5)`): the plate's free mesh grows
+/// from each boundary segment's own length, so the rows under the coarse
+/// top are not flattened to the size: within the bounds, with fewer
+/// elements than at the size, and the trace's first step says so. With
+/// the bound at 0 the run is uniform at the size again, as a domain whose
+/// counts all come from the size always is.
+#[test]
+fn a_coarse_fixed_count_grades_a_run_without_max_size() {
+    let d = plate_with_a_coarse_top();
+    let mut kb = kb_with("tests/kb/free-first.pl");
+    let opts = Options::default().with_trace(true);
+    let graded = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    within_the_bounds(&graded, "coarse-top graded");
+    let first = &graded.trace[0];
+    assert_eq!(first.action, "free");
+    assert!(
+        first.redesign[0].starts_with(
+            "no max_size, boundary segments up to 4.000 times the size (over bound(coarse_boundary_grading, 1.5))"
+        ),
+        "{:?}",
+        first.redesign
+    );
+    let mut at_size_kb = kb_with("tests/kb/free-first.pl");
+    at_size_kb
+        .consult_file("tests/kb/no-coarse-boundary-grading.pl")
+        .unwrap();
+    let at_size =
+        mesh_free_then_blocks(&d, None, &mut at_size_kb, &opts, &mut |_| {}).expect("meshed");
+    assert!(
+        at_size.trace[0].feature != "block",
+        "nothing told before a uniform free mesh within the bounds"
+    );
+    assert!(
+        graded.mesh.quads().len() * 4 < at_size.mesh.quads().len() * 3,
+        "{} graded against {} at the size",
+        graded.mesh.quads().len(),
+        at_size.mesh.quads().len()
+    );
+    // a domain whose counts all come from the size is not graded
+    let mut plain = KnowledgeBase::builtin().unwrap();
+    let sq = run(&mut plain, &square(), None);
+    assert!(longest_edge(&sq) < 0.5 * 1.6, "{}", longest_edge(&sq));
 }
 
 #[test]

@@ -19,6 +19,7 @@ mod free_blocks;
 pub mod intervals;
 mod mapping;
 mod retries;
+mod score;
 
 use crate::input::curves::Curve;
 use crate::input::domain::Domain;
@@ -29,6 +30,8 @@ use crate::pipeline::{
 use crate::recursion::Outcome;
 use crate::report::trace::{By, TraceStep};
 use intervals::{Chords, FixedCount};
+pub use score::irregular_nodes;
+use score::{sharpest_input_corner, Score};
 
 /// The layout's element size is tried at `bound(block_size, K)`, then at
 /// three quarters and half of it (never under 1.5 element sizes); their
@@ -62,16 +65,13 @@ pub fn mesh_in_blocks(
     };
     let before_free = started.elapsed().as_secs_f64();
     let mut free = mesh_domain(domain, kb, opts, progress)?;
-    let score = Score::of(&free, &settings.element, domain);
+    let score = Score::of(&free, &settings, domain);
     if let Some((_, mut r, name)) = best.filter(|(b, _, _)| *b < score) {
         r.phases.blocks = blocks_time(&r);
         return Ok(with_first_step(r, &name, tried));
     }
     free.phases.blocks = before_free;
-    tried.push(format!(
-        "free: {} elements out of bounds, {} irregular nodes",
-        score.outside, score.irregular
-    ));
+    tried.push(format!("free: {}", score.words()));
     Ok(with_first_step(free, "free", tried))
 }
 
@@ -103,9 +103,12 @@ pub fn mesh_free_then_blocks(
     };
     let mut prepared = prepare_run(domain, boundary, kb, opts)?;
     let settings = prepared.settings().clone();
-    let graded = prepared.is_graded();
+    // graded by a coarse boundary only, the run is a uniform one's:
+    // blocks, retries and all (the blocks follow the boundary's counts)
+    let graded = prepared.is_graded_by_user();
     let share = settings.host.blocks_when_out_of_bounds;
-    let mut tried: Vec<String> = Vec::new();
+    let mut tried: Vec<String> = prepared.grown_to_words().into_iter().collect();
+    let coarse_boundary = !tried.is_empty();
     // the blocks first: where a layout's mesh is within the bounds, no
     // free mesh is made (None: not tried)
     let mut first_blocks = None;
@@ -131,9 +134,9 @@ pub fn mesh_free_then_blocks(
     let before_free = started.elapsed().as_secs_f64();
     let mut free = crate::pipeline::mesh_prepared(kb, prepared, progress)?;
     if share <= 0.0 || graded {
-        return Ok(free);
+        return Ok(told(free, tried));
     }
-    let score = Score::of(&free, &settings.element, domain);
+    let score = Score::of(&free, &settings, domain);
     if score.outside == 0 {
         if first_blocks.is_some() {
             // the blocks' time before it, and what they gave, told
@@ -144,11 +147,11 @@ pub fn mesh_free_then_blocks(
             ));
             return Ok(with_first_step(free, "free", tried));
         }
-        return Ok(free);
+        return Ok(told(free, tried));
     }
     tried.push(format!(
-        "free: {} elements out of bounds, {} irregular nodes; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
-        score.outside, score.irregular
+        "free: {}; blocks tried (bound(blocks_when_out_of_bounds, {share}))",
+        score.words()
     ));
     // a layout mostly of free blocks would mesh the domain free again
     let best = match first_blocks {
@@ -170,7 +173,13 @@ pub fn mesh_free_then_blocks(
             let variants: Vec<_> = kb
                 .retry_variants()?
                 .into_iter()
-                .filter(|(_, _, needs)| fixed_counts || !needs.iter().any(|n| n == "fixed_counts"))
+                .filter(|(_, _, needs)| {
+                    needs.iter().all(|n| match n.as_str() {
+                        "fixed_counts" => fixed_counts,
+                        "coarse_boundary" => coarse_boundary,
+                        _ => true,
+                    })
+                })
                 .collect();
             let user_files = kb.user_files().to_vec();
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -225,51 +234,13 @@ pub fn mesh_free_then_blocks(
     }
 }
 
-/// The sharpest corner (deg) of the domain at a vertex of its input, as
-/// the elements round that vertex in `mesh` add up (360 inside).
-fn sharpest_input_corner(mesh: &crate::mesh::Mesh, domain: &Domain) -> f64 {
-    input_corner_angles(mesh, domain)
-        .iter()
-        .map(|a| a.1)
-        .fold(360.0, f64::min)
-}
-
-/// The mesh's nodes at a vertex of the input, in order, each with the
-/// domain's corner there (deg) as the elements round it add up.
-fn input_corner_angles(mesh: &crate::mesh::Mesh, domain: &Domain) -> Vec<(u32, f64)> {
-    let at_vertex = input_vertices(domain);
-    let mut at: Vec<(u32, f64)> = Vec::new();
-    for (q, quad) in mesh.quads.iter().enumerate() {
-        let p = mesh.quad_points(q);
-        let angles = crate::geometry::quad_angles(p);
-        for k in 0..4 {
-            if mesh.kinds[quad[k] as usize] == crate::mesh::NodeKind::Boundary && at_vertex(p[k]) {
-                at.push((quad[k], angles[k]));
-            }
-        }
-    }
-    at.sort_by_key(|a| a.0);
-    at.chunk_by(|a, b| a.0 == b.0)
-        .map(|c| (c[0].0, c.iter().map(|a| a.1).sum::<f64>()))
-        .collect()
-}
-
-/// Whether a point is at a vertex of the input (within a billionth of
-/// the domain's scale): the vertices sorted by x, so a point looks at
-/// those of about its x only.
-fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
-    let tol = 1e-9 * domain.scale();
-    let mut vertices: Vec<glam::DVec2> = domain
-        .chains()
-        .flat_map(crate::input::curves::chain_vertices)
-        .collect();
-    vertices.sort_by(|a, b| a.x.total_cmp(&b.x));
-    move |p: glam::DVec2| {
-        let from = vertices.partition_point(|v| v.x < p.x - tol);
-        vertices[from..]
-            .iter()
-            .take_while(|v| v.x <= p.x + tol)
-            .any(|v| (*v - p).length() <= tol)
+/// The free mesh as it is, or with a first step telling what was
+/// decided before it (the run graded for a coarse boundary).
+fn told(free: MeshResult, tried: Vec<String>) -> MeshResult {
+    if tried.is_empty() {
+        free
+    } else {
+        with_first_step(free, "free", tried)
     }
 }
 
@@ -387,11 +358,8 @@ fn best_block_mesh(
             }
             Err(e) => return Err(e),
         };
-        let score = Score::of(&r, &settings.element, domain);
-        tried.push(format!(
-            "{words}: {} elements out of bounds, {} irregular nodes",
-            score.outside, score.irregular
-        ));
+        let score = Score::of(&r, settings, domain);
+        tried.push(format!("{words}: {}", score.words()));
         let within = score.outside == 0;
         if best.as_ref().is_none_or(|(b, _, _)| score < *b) {
             best = Some((score, r, name));
@@ -401,90 +369,6 @@ fn best_block_mesh(
         }
     }
     Ok(best)
-}
-
-/// How far a mesh is from the bounds (elements with a corner outside the
-/// window, one more for each of aspect, taper and size jump above its
-/// bound), then its irregular interior nodes: less is better.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Score {
-    outside: usize,
-    irregular: usize,
-}
-
-impl Score {
-    fn of(r: &MeshResult, bounds: &crate::settings::ElementBounds, domain: &Domain) -> Score {
-        let q = &r.quality;
-        let over = |x: f64, bound: f64| usize::from(x > bound);
-        Score {
-            outside: corners_outside(&r.mesh, bounds, domain)
-                + over(q.max_aspect, bounds.max_aspect)
-                + over(q.max_taper, bounds.max_taper)
-                + over(q.max_size_jump, bounds.max_size_jump),
-            irregular: irregular_nodes(&r.mesh),
-        }
-    }
-}
-
-/// Elements with a corner outside the bounds' window, but for a corner
-/// at a vertex of the input sharper than the window that the element
-/// takes whole (it cannot do better than the input's corner; an input
-/// corner of 83 deg split into two of 41.5 is outside, as the judge has
-/// it).
-fn corners_outside(
-    mesh: &crate::mesh::Mesh,
-    bounds: &crate::settings::ElementBounds,
-    domain: &Domain,
-) -> usize {
-    let at_input = input_corner_angles(mesh, domain);
-    (0..mesh.quads.len())
-        .filter(|&q| {
-            let quad = mesh.quads[q];
-            let angles = crate::geometry::quad_angles(mesh.quad_points(q));
-            (0..4).any(|k| {
-                let excused = || match at_input.binary_search_by_key(&quad[k], |a| a.0) {
-                    Ok(i) => angles[k] >= at_input[i].1 - 1e-6,
-                    Err(_) => false,
-                };
-                angles[k] > bounds.upper_corner + 1e-9
-                    || (angles[k] < bounds.lower_corner && !excused())
-            })
-        })
-        .count()
-}
-
-/// Interior nodes (on no boundary edge) where other than four elements
-/// meet.
-pub fn irregular_nodes(mesh: &crate::mesh::Mesh) -> usize {
-    let n = mesh.nodes.len();
-    let mut on_boundary = vec![false; n];
-    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(4 * mesh.quads.len());
-    for q in &mesh.quads {
-        for k in 0..4 {
-            let (a, b) = (q[k], q[(k + 1) % 4]);
-            edges.push((a.min(b), a.max(b)));
-        }
-    }
-    edges.sort_unstable();
-    let mut valence = vec![0usize; n];
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && edges[j] == edges[i] {
-            j += 1;
-        }
-        let (a, b) = edges[i];
-        valence[a as usize] += 1;
-        valence[b as usize] += 1;
-        if j - i == 1 {
-            on_boundary[a as usize] = true;
-            on_boundary[b as usize] = true;
-        }
-        i = j;
-    }
-    (0..n)
-        .filter(|&v| valence[v] > 0 && !on_boundary[v] && valence[v] != 4)
-        .count()
 }
 
 /// A `--blocks` run's trace with its first step: the mesh kept,

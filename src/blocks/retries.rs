@@ -97,11 +97,8 @@ fn retry_variant(
             return Ok(None);
         }
     };
-    let s = Score::of(&r, &settings.element, domain);
-    tried.push(format!(
-        "{said}: {} elements out of bounds, {} irregular nodes",
-        s.outside, s.irregular
-    ));
+    let s = Score::of(&r, settings, domain);
+    tried.push(format!("{said}: {}", s.words()));
     if s.outside == 0 {
         return Ok(Some((s, r, format!("retry({variant})"))));
     }

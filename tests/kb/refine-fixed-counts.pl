@@ -5,3 +5,5 @@
 % 1.5 or more) three edges into one.
 bound(uniform_size_band, 1.5).
 bound(refine_ratio, 0.45).
+% A uniform run at the size, not graded for the coarse edges.
+bound(coarse_boundary_grading, 0).

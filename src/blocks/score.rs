@@ -1,0 +1,222 @@
+//! How near a mesh is to the bounds, to choose among the meshes tried
+//! (blocks, free, retries): the elements out of bounds, weighed by how
+//! far, then the irregular interior nodes.
+
+use crate::input::domain::Domain;
+use crate::pipeline::MeshResult;
+
+/// The sharpest corner (deg) of the domain at a vertex of its input, as
+/// the elements round that vertex in `mesh` add up (360 inside).
+pub(super) fn sharpest_input_corner(mesh: &crate::mesh::Mesh, domain: &Domain) -> f64 {
+    input_corner_angles(mesh, domain)
+        .iter()
+        .map(|a| a.1)
+        .fold(360.0, f64::min)
+}
+
+/// The mesh's nodes at a vertex of the input, in order, each with the
+/// domain's corner there (deg) as the elements round it add up.
+fn input_corner_angles(mesh: &crate::mesh::Mesh, domain: &Domain) -> Vec<(u32, f64)> {
+    let at_vertex = input_vertices(domain);
+    let mut at: Vec<(u32, f64)> = Vec::new();
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        let p = mesh.quad_points(q);
+        let angles = crate::geometry::quad_angles(p);
+        for k in 0..4 {
+            if mesh.kinds[quad[k] as usize] == crate::mesh::NodeKind::Boundary && at_vertex(p[k]) {
+                at.push((quad[k], angles[k]));
+            }
+        }
+    }
+    at.sort_by_key(|a| a.0);
+    at.chunk_by(|a, b| a.0 == b.0)
+        .map(|c| (c[0].0, c.iter().map(|a| a.1).sum::<f64>()))
+        .collect()
+}
+
+/// Whether a point is at a vertex of the input (within a billionth of
+/// the domain's scale): the vertices sorted by x, so a point looks at
+/// those of about its x only.
+fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
+    let tol = 1e-9 * domain.scale();
+    let mut vertices: Vec<glam::DVec2> = domain
+        .chains()
+        .flat_map(crate::input::curves::chain_vertices)
+        .collect();
+    vertices.sort_by(|a, b| a.x.total_cmp(&b.x));
+    move |p: glam::DVec2| {
+        let from = vertices.partition_point(|v| v.x < p.x - tol);
+        vertices[from..]
+            .iter()
+            .take_while(|v| v.x <= p.x + tol)
+            .any(|v| (*v - p).length() <= tol)
+    }
+}
+
+/// How far a mesh is from the bounds, then its irregular interior nodes:
+/// less is better. `weight` orders first: each element with a corner
+/// outside the window counts once, and once more for every
+/// `bound(out_of_bounds_step, D)` degrees its worst corner lies outside
+/// (one element at 2 degrees is worse than four at 42); one more for each
+/// of aspect, taper and size jump above its bound. `outside` is the
+/// plain count the trace reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct Score {
+    weight: usize,
+    pub(super) outside: usize,
+    pub(super) irregular: usize,
+}
+
+impl Score {
+    pub(super) fn of(
+        r: &MeshResult,
+        settings: &crate::settings::Settings,
+        domain: &Domain,
+    ) -> Score {
+        let (q, bounds) = (&r.quality, &settings.element);
+        let over = |x: f64, bound: f64| usize::from(x > bound);
+        let overs = over(q.max_aspect, bounds.max_aspect)
+            + over(q.max_taper, bounds.max_taper)
+            + over(q.max_size_jump, bounds.max_size_jump);
+        let (outside, weight) =
+            corners_outside(&r.mesh, bounds, domain, settings.host.out_of_bounds_step);
+        Score {
+            weight: weight + overs,
+            outside: outside + overs,
+            irregular: irregular_nodes(&r.mesh),
+        }
+    }
+
+    /// The trace's words: elements out of bounds, the weight where it
+    /// differs, irregular nodes.
+    pub(super) fn words(&self) -> String {
+        let weighed = if self.weight > self.outside {
+            format!(" (weighing {} by bound(out_of_bounds_step))", self.weight)
+        } else {
+            String::new()
+        };
+        format!(
+            "{} elements out of bounds{weighed}, {} irregular nodes",
+            self.outside, self.irregular
+        )
+    }
+}
+
+/// Elements with a corner outside the bounds' window, but for a corner
+/// at a vertex of the input sharper than the window that the element
+/// takes whole (it cannot do better than the input's corner; an input
+/// corner of 83 deg split into two of 41.5 is outside, as the judge has
+/// it); and their weight, each one plus a step for every `step` degrees
+/// its worst corner lies outside the window.
+fn corners_outside(
+    mesh: &crate::mesh::Mesh,
+    bounds: &crate::settings::ElementBounds,
+    domain: &Domain,
+    step: f64,
+) -> (usize, usize) {
+    let at_input = input_corner_angles(mesh, domain);
+    let (mut count, mut weight) = (0, 0);
+    for q in 0..mesh.quads.len() {
+        let quad = mesh.quads[q];
+        let angles = crate::geometry::quad_angles(mesh.quad_points(q));
+        let mut worst: Option<f64> = None;
+        for k in 0..4 {
+            let excused = || match at_input.binary_search_by_key(&quad[k], |a| a.0) {
+                Ok(i) => angles[k] >= at_input[i].1 - 1e-6,
+                Err(_) => false,
+            };
+            let by = if angles[k] > bounds.upper_corner + 1e-9 {
+                angles[k] - bounds.upper_corner
+            } else if angles[k] < bounds.lower_corner && !excused() {
+                bounds.lower_corner - angles[k]
+            } else {
+                continue;
+            };
+            worst = Some(worst.map_or(by, |w: f64| w.max(by)));
+        }
+        if let Some(by) = worst {
+            count += 1;
+            weight += 1 + if step > 0.0 { (by / step) as usize } else { 0 };
+        }
+    }
+    (count, weight)
+}
+
+/// Interior nodes (on no boundary edge) where other than four elements
+/// meet.
+pub fn irregular_nodes(mesh: &crate::mesh::Mesh) -> usize {
+    let n = mesh.nodes.len();
+    let mut on_boundary = vec![false; n];
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(4 * mesh.quads.len());
+    for q in &mesh.quads {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            edges.push((a.min(b), a.max(b)));
+        }
+    }
+    edges.sort_unstable();
+    let mut valence = vec![0usize; n];
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j] == edges[i] {
+            j += 1;
+        }
+        let (a, b) = edges[i];
+        valence[a as usize] += 1;
+        valence[b as usize] += 1;
+        if j - i == 1 {
+            on_boundary[a as usize] = true;
+            on_boundary[b as usize] = true;
+        }
+        i = j;
+    }
+    (0..n)
+        .filter(|&v| valence[v] > 0 && !on_boundary[v] && valence[v] != 4)
+        .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Mesh, NodeKind};
+    use glam::DVec2;
+
+    /// `n` unit rhombi side by side, each with corners of `deg` and
+    /// 180 - `deg`.
+    fn rhombi(n: usize, deg: f64) -> Mesh {
+        let mut m = Mesh::default();
+        let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
+        for k in 0..n {
+            let x = 3.0 * k as f64;
+            let base = m.nodes.len() as u32;
+            for p in [[x, 0.0], [x + 1.0, 0.0], [x + 1.0 + c, s], [x + c, s]] {
+                m.add_node(DVec2::new(p[0], p[1]), NodeKind::Interior);
+            }
+            m.quads.push([base, base + 1, base + 2, base + 3]);
+        }
+        m
+    }
+
+    /// Each element out of the window counts once, and once more a step
+    /// of degrees past it: one element at 2 deg weighs more than four at
+    /// 44, so the mesh kept where all fall short is the nearer one.
+    #[test]
+    fn an_element_far_outside_the_window_weighs_more_than_several_just_outside() {
+        // no corner of these meshes at a vertex of the domain
+        let domain = Domain::from_json_str(
+            r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
+        )
+        .unwrap();
+        let bounds = crate::settings::ElementBounds::default();
+        let out = |m: &Mesh, step: f64| corners_outside(m, &bounds, &domain, step);
+        assert_eq!(out(&rhombi(1, 60.0), 5.0), (0, 0));
+        assert_eq!(out(&rhombi(4, 44.0), 5.0), (4, 4));
+        // 28 deg past: 5 steps more
+        assert_eq!(out(&rhombi(1, 17.0), 5.0), (1, 6));
+        // 43 deg past
+        assert_eq!(out(&rhombi(1, 2.0), 5.0), (1, 9));
+        // a step of 0 counts each element once
+        assert_eq!(out(&rhombi(1, 2.0), 0.0), (1, 1));
+    }
+}
