@@ -25,7 +25,7 @@ use crate::input::curves::Curve;
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
 use crate::pipeline::{
-    discretise_for_run, finish_mesh, mesh_domain, prepare_run, Error, MeshResult, Options, Run,
+    discretise_for_run, finish_mesh, prepare_run, Error, MeshResult, Options, Run,
 };
 use crate::recursion::Outcome;
 use crate::report::trace::{By, TraceStep};
@@ -64,7 +64,11 @@ pub fn mesh_in_blocks(
         other => other,
     };
     let before_free = started.elapsed().as_secs_f64();
-    let mut free = mesh_domain(domain, kb, opts, progress)?;
+    crate::pipeline::check_options(opts)?;
+    let prepared = prepare_run(domain, discretise_for_run(domain, opts.size)?, kb, opts)?;
+    // the free mesh's grading for a coarse boundary, told
+    tried.extend(prepared.grown_to_words());
+    let mut free = crate::pipeline::mesh_prepared(kb, prepared, progress)?;
     let score = Score::of(&free, &settings, domain);
     if let Some((_, mut r, name)) = best.filter(|(b, _, _)| *b < score) {
         r.phases.blocks = blocks_time(&r);
