@@ -244,10 +244,12 @@ bound(closing_strict_size, 1.6).
 % refine, action r3): off by default, as it did worse on the random
 % domains with coarse fixed counts than without, but better on some of
 % those that fall short otherwise.
-% The others each move one threshold of the design rules a little, so
+% The next three each move one threshold of the design rules a little, so
 % that the fronts take other ways where they met badly: fronts that may
 % leave no corner under 20 deg (12), that merge only within 0.4 of the
-% size (0.5), that call a corner near horizontal within 0.2 (0.3).
+% size (0.5), that call a corner near horizontal within 0.2 (0.3). The
+% last three move the same thresholds at the size, on a run graded for a
+% coarse boundary (the graded ones move them graded).
 %
 % ?- retry_bound(refine_fixed_counts, N, V).
 %    N = uniform_size_band, V = 1.5
@@ -260,6 +262,12 @@ retry_bound(refine_fixed_counts, coarse_boundary_grading, 0).
 retry_bound(no_sharp_front_corners, min_front_angle, 20).
 retry_bound(fronts_merge_nearer, near_node, 0.4).
 retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
+retry_bound(uniform_no_sharp_front_corners, coarse_boundary_grading, 0).
+retry_bound(uniform_no_sharp_front_corners, min_front_angle, 20).
+retry_bound(uniform_fronts_merge_nearer, coarse_boundary_grading, 0).
+retry_bound(uniform_fronts_merge_nearer, near_node, 0.4).
+retry_bound(uniform_flatter_near_horizontal, coarse_boundary_grading, 0).
+retry_bound(uniform_flatter_near_horizontal, near_horizontal, 0.2).
 
 %% retry_needs(?Variant, ?What)
 %
@@ -270,4 +278,7 @@ retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.
 retry_needs(uniform_at_the_size, coarse_boundary).
+retry_needs(uniform_no_sharp_front_corners, coarse_boundary).
+retry_needs(uniform_fronts_merge_nearer, coarse_boundary).
+retry_needs(uniform_flatter_near_horizontal, coarse_boundary).
 retry_needs(refine_fixed_counts, fixed_counts).
