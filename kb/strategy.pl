@@ -18,6 +18,7 @@ the other bounds keep the values below).
 :- dynamic(bound/2).
 :- dynamic(retry_bound/3).
 :- dynamic(retry_needs/2).
+:- dynamic(at_the_size/2).
 
 %% strategy(-Features)
 %
@@ -254,7 +255,8 @@ bound(closing_strict_size, 1.6).
 % ?- retry_bound(refine_fixed_counts, N, V).
 %    N = uniform_size_band, V = 1.5
 % ;  N = refine_ratio, V = 0.45
-% ;  N = coarse_boundary_grading, V = 0.
+% ;  N = coarse_boundary_grading, V = 0
+% ;  false.
 retry_bound(uniform_at_the_size, coarse_boundary_grading, 0).
 retry_bound(refine_fixed_counts, uniform_size_band, 1.5).
 retry_bound(refine_fixed_counts, refine_ratio, 0.45).
@@ -262,12 +264,25 @@ retry_bound(refine_fixed_counts, coarse_boundary_grading, 0).
 retry_bound(no_sharp_front_corners, min_front_angle, 20).
 retry_bound(fronts_merge_nearer, near_node, 0.4).
 retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
-retry_bound(uniform_no_sharp_front_corners, coarse_boundary_grading, 0).
-retry_bound(uniform_no_sharp_front_corners, min_front_angle, 20).
-retry_bound(uniform_fronts_merge_nearer, coarse_boundary_grading, 0).
-retry_bound(uniform_fronts_merge_nearer, near_node, 0.4).
-retry_bound(uniform_flatter_near_horizontal, coarse_boundary_grading, 0).
-retry_bound(uniform_flatter_near_horizontal, near_horizontal, 0.2).
+% A variant at the size: the variant it is of, without the grading.
+retry_bound(V, N, X) :-
+    at_the_size(V, Of),
+    (   N = coarse_boundary_grading, X = 0
+    ;   retry_bound(Of, N, X)
+    ).
+
+%% at_the_size(?Variant, ?Of)
+%
+% Variant is the retry Of meshed at the size, on a run graded for a
+% coarse boundary only (retry_needs(Variant, coarse_boundary)).
+%
+% ?- retry_bound(uniform_fronts_merge_nearer, N, X).
+%    N = coarse_boundary_grading, X = 0
+% ;  N = near_node, X = 0.4
+% ;  false.
+at_the_size(uniform_no_sharp_front_corners, no_sharp_front_corners).
+at_the_size(uniform_fronts_merge_nearer, fronts_merge_nearer).
+at_the_size(uniform_flatter_near_horizontal, flatter_near_horizontal).
 
 %% retry_needs(?Variant, ?What)
 %
@@ -278,7 +293,6 @@ retry_bound(uniform_flatter_near_horizontal, near_horizontal, 0.2).
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.
 retry_needs(uniform_at_the_size, coarse_boundary).
-retry_needs(uniform_no_sharp_front_corners, coarse_boundary).
-retry_needs(uniform_fronts_merge_nearer, coarse_boundary).
-retry_needs(uniform_flatter_near_horizontal, coarse_boundary).
+retry_needs(V, coarse_boundary) :-
+    at_the_size(V, _).
 retry_needs(refine_fixed_counts, fixed_counts).

@@ -516,10 +516,10 @@ impl PreparedRun {
         self.prepared.is_graded()
     }
 
-    /// Whether the run is graded by the user's `max_size` (not only for
-    /// a coarse boundary).
-    pub(crate) fn is_graded_by_user(&self) -> bool {
-        self.is_graded() && self.grown_to.is_none()
+    /// Whether the run is graded for a coarse boundary only (no
+    /// `max_size`; see `coarse_boundary_limit`).
+    pub(crate) fn is_graded_for_coarse_boundary(&self) -> bool {
+        self.grown_to.is_some()
     }
 
     /// The trace's words where the run is graded for a coarse boundary

@@ -249,7 +249,7 @@ pub struct HostBounds {
     /// `out_of_bounds_step`: where every mesh tried falls short of the
     /// bounds, the one kept has the fewest elements out of bounds, each
     /// counted once more for every this many degrees its worst corner
-    /// lies outside the window (0: each once; see blocks/mod.rs, `Score`).
+    /// lies outside the window (0: each once; see blocks/score.rs, `Score`).
     pub out_of_bounds_step: f64,
     /// `coarse_boundary_grading`: without a `max_size`, where fixed
     /// counts make a boundary segment longer than this many times the

@@ -109,10 +109,10 @@ pub fn mesh_free_then_blocks(
     let settings = prepared.settings().clone();
     // graded by a coarse boundary only, the run is a uniform one's:
     // blocks, retries and all (the blocks follow the boundary's counts)
-    let graded = prepared.is_graded_by_user();
+    let coarse_boundary = prepared.is_graded_for_coarse_boundary();
+    let graded = prepared.is_graded() && !coarse_boundary;
     let share = settings.host.blocks_when_out_of_bounds;
     let mut tried: Vec<String> = prepared.grown_to_words().into_iter().collect();
-    let coarse_boundary = !tried.is_empty();
     // the blocks first: where a layout's mesh is within the bounds, no
     // free mesh is made (None: not tried)
     let mut first_blocks = None;
