@@ -183,6 +183,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   within this factor of the size of the loop's edges it takes (the
 %   elements across them are about that size, and neighbours may differ
 %   by max_size_jump at most).
+% boundary_slide: where an element is still past the bounds after the
+%   clean-up, easing may slide a boundary node that lies inside a
+%   straight input edge along that edge (never an input vertex), at least
+%   this share of the way between its neighbours from either: in a spike
+%   or a slot nearly every node is on the boundary, and the elements
+%   there have no other room. 0: boundary nodes stay where they were put.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -228,6 +234,7 @@ bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
+bound(boundary_slide, 0.2).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %

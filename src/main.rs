@@ -575,6 +575,13 @@ fn mesh_one(
             result.stats.cleanup_collapses,
             result.stats.cleanup_splits
         );
+        if result.stats.boundary_slides > 0 {
+            eprintln!(
+                "{}: easing slid boundary nodes along their straight input edges {} times (bound(boundary_slide, S))",
+                domain.name(),
+                result.stats.boundary_slides
+            );
+        }
         if result.stats.thin_wall_edges > 0 {
             eprintln!(
                 "{}: boundary: {} edges facing each other across thin walls given one segment count each (bound(thin_wall, K))",

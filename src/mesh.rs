@@ -6,7 +6,8 @@ use glam::DVec2;
 /// What a node is, for smoothing: input boundary nodes stay where they are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NodeKind {
-    /// On an input loop or inner line: never moved.
+    /// On an input loop or inner line: never moved off it (easing may
+    /// slide one inside a straight input edge along that edge).
     Boundary,
     /// Inside the domain (including the nodes of cutting lines): smoothing
     /// may move it.
@@ -75,9 +76,21 @@ pub struct Mesh {
     /// With `--blocks`, the block of each quad (0-based; `block 1` in the
     /// outputs); empty otherwise.
     pub(crate) blocks: Vec<u32>,
+    /// Where the input's vertices are (their coordinates' bits, sorted):
+    /// the boundary nodes that are none of them lie inside an input edge
+    /// and may slide along it. None: not known, so none slides.
+    pub(crate) input_vertices: Option<Vec<[u64; 2]>>,
 }
 
 impl Mesh {
+    /// Whether node `n` is (or may be) at a vertex of the input.
+    pub(crate) fn is_input_vertex(&self, n: usize) -> bool {
+        let p = self.nodes[n];
+        self.input_vertices
+            .as_ref()
+            .is_none_or(|v| v.binary_search(&[p.x.to_bits(), p.y.to_bits()]).is_ok())
+    }
+
     /// Node coordinates.
     pub fn nodes(&self) -> &[DVec2] {
         &self.nodes

@@ -54,6 +54,9 @@ pub struct MeshStats {
     pub cleanup_collapses: usize,
     /// Hexagons split into three by the clean-up.
     pub cleanup_splits: usize,
+    /// Moves of easing that slid a boundary node along its straight
+    /// input edge (`bound(boundary_slide, S)`).
+    pub boundary_slides: usize,
     /// Input edges given one segment count with the edges they face
     /// across a wall thinner than `bound(thin_wall, K)` element sizes.
     pub thin_wall_edges: usize,

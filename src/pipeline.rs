@@ -741,7 +741,7 @@ pub(crate) fn finish_mesh(
         last_changes = Some(touched);
     }
     // corners still outside the window: their neighbours make room
-    smoothing::ease_bad_corners(&mut mesh, bounds);
+    stats.boundary_slides += smoothing::ease_bad_corners(&mut mesh, bounds).1;
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }

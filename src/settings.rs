@@ -72,7 +72,14 @@ pub struct ElementBounds {
     pub cos2_lower: f64,
     /// cos² of the upper corner, likewise.
     pub cos2_upper: f64,
+    /// `boundary_slide`: easing may slide a boundary node inside a
+    /// straight input edge along it, keeping at least this share of the
+    /// way between its neighbours from either (0: no boundary node moves).
+    pub boundary_slide: f64,
 }
+
+/// The built-in `bound(boundary_slide, _)` (kb/strategy.pl).
+pub const BOUNDARY_SLIDE: f64 = 0.2;
 
 impl Default for ElementBounds {
     /// The paper's bounds: corners in [45, 135], aspect ratio and taper
@@ -125,6 +132,21 @@ impl ElementBounds {
             max_size_jump,
             cos2_lower: cos2(lower_corner),
             cos2_upper: cos2(upper_corner),
+            boundary_slide: BOUNDARY_SLIDE,
+        })
+    }
+
+    /// These bounds with `bound(boundary_slide, share)`, or a sentence
+    /// saying it is out of range (0 to below a half).
+    pub fn with_boundary_slide(self, share: f64) -> Result<ElementBounds, String> {
+        if !(0.0..0.5).contains(&share) {
+            return Err(format!(
+                "bound(boundary_slide, {share}) must be at least 0 and below 0.5"
+            ));
+        }
+        Ok(ElementBounds {
+            boundary_slide: share,
+            ..self
         })
     }
 

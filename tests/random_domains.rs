@@ -836,6 +836,55 @@ fn a_split_input_corner_under_the_window_counts_as_outside() {
     assert!(said.iter().any(|t| t.starts_with("retry ")), "{said:?}");
 }
 
+/// A four-sided domain of counts 5, 1, 4 and 2 (tests/bounds/
+/// sliding-mapped.json, the generator's seed 88): its seven elements have
+/// a single interior node between them, and a corner of 44.4 degrees
+/// stays whatever it does. Easing slides boundary nodes along their
+/// straight edges (`bound(boundary_slide, 0.2)`) and brings every corner
+/// into the window; the nodes stay on the edges and the four input
+/// vertices where they are. With the bound at 0 none moves, and the mesh
+/// falls short.
+#[test]
+fn boundary_nodes_slide_along_their_edges_where_elements_have_no_other_room() {
+    let text = std::fs::read_to_string("tests/bounds/sliding-mapped.json").expect("the file");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let domain = Domain::from_json(&json).expect("valid");
+    let opts = Options::default();
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let slid = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    assert!(within_bounds(&slid.quality, 45.0), "{:?}", slid.quality);
+    let corners: Vec<[f64; 2]> =
+        serde_json::from_value(json["outer"]["points"].clone()).expect("the points");
+    for c in &corners {
+        assert!(
+            slid.mesh.nodes().iter().any(|n| n.x == c[0] && n.y == c[1]),
+            "input vertex {c:?} moved"
+        );
+    }
+    // every boundary node on a side: its distance to the side's line
+    for e in slid.mesh.boundary() {
+        let p = slid.mesh.nodes()[e.a as usize];
+        let on_a_side = (0..corners.len()).any(|i| {
+            let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let cross = (p.x - a[0]) * dy - (p.y - a[1]) * dx;
+            cross.abs() <= 1e-9 * (dx * dx + dy * dy)
+        });
+        assert!(on_a_side, "boundary node {p} off the sides");
+    }
+    let mut fixed = KnowledgeBase::builtin().expect("the built-in KB loads");
+    fixed
+        .consult_file("tests/kb/no-boundary-slide.pl")
+        .expect("consulted");
+    let unslid =
+        mesh_free_then_blocks(&domain, None, &mut fixed, &opts, &mut |_| {}).expect("meshed");
+    assert!(
+        !within_bounds(&unslid.quality, 45.0),
+        "{:?}",
+        unslid.quality
+    );
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

@@ -365,6 +365,12 @@ fn discretise_with(
         );
         chains.push((nodes, closed));
     }
+    let mut at: Vec<[u64; 2]> = vertices
+        .iter()
+        .map(|(p, _)| [p.x.to_bits(), p.y.to_bits()])
+        .collect();
+    at.sort_unstable();
+    mesh.input_vertices = Some(at);
     let comps = components(&chains);
     let lines_meet = comps.iter().any(|c| !c.junctions.is_empty());
     // a cut's segments within the size jump of the input segments at its

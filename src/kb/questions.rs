@@ -26,6 +26,7 @@ impl KnowledgeBase {
         let strategy = self.first_binding(terms::STRATEGY_QUESTION, "S")?;
         let strategy = terms::strategy_answer(strategy)?;
         let rounds = self.bound("redesign_rounds")?;
+        let slide = self.bound("boundary_slide")?;
         let element = ElementBounds::new(
             self.bound("lower_corner")?,
             self.bound("upper_corner")?,
@@ -33,6 +34,7 @@ impl KnowledgeBase {
             self.bound("max_taper")?,
             self.bound("max_size_jump")?,
         )
+        .and_then(|e| e.with_boundary_slide(slide))
         .map_err(|why| KbError::Answer {
             query: "bound/2".into(),
             answer: why,

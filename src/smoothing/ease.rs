@@ -6,8 +6,12 @@
 //! lower how far the corners come near the window's edges (the squared
 //! degrees past a margin inside it). The neighbours make room that the
 //! bad element's own nodes then take; a node moving alone cannot, since
-//! its own worst corner decides (untangle.rs). No move makes the worst
-//! corner round a node worse, nor the sizes and shapes past their bounds.
+//! its own worst corner decides (untangle.rs). A boundary node inside a
+//! straight input edge slides along it (never an input vertex, and never
+//! nearer than a fifth of the way to a neighbour): in a spike or a slot,
+//! where the elements' nodes are nearly all on the boundary, that is
+//! the only room there is. No move makes the worst corner round a node
+//! worse, nor the sizes and shapes past their bounds.
 
 use crate::element_quality::{badness_of, fixed_tips, quad_area, size_shape_excess, worst_around};
 use crate::geometry::quad_angles;
@@ -25,8 +29,9 @@ const SHAPE_AIM: f64 = 0.99;
 const ROUNDS: usize = 8;
 
 /// Eases the nodes round the elements with a corner outside the window;
-/// returns the moves kept (0, and the mesh untouched, when there is none).
-pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
+/// returns the moves kept and how many of them slid a boundary node
+/// (0, and the mesh untouched, when there is none).
+pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usize) {
     let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh, &around);
     let bad: Vec<u32> = (0..mesh.quads.len() as u32)
@@ -42,7 +47,7 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
         })
         .collect();
     if bad.is_empty() {
-        return 0;
+        return (0, 0);
     }
     // the free nodes within two rings of the bad elements
     let mut near = vec![false; mesh.nodes.len()];
@@ -63,10 +68,19 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
         next.dedup();
         quads = next;
     }
+    let rails = if bounds.boundary_slide > 0.0 {
+        boundary_rails(mesh)
+    } else {
+        vec![None; mesh.nodes.len()]
+    };
     let nodes: Vec<usize> = (0..mesh.nodes.len())
-        .filter(|&n| near[n] && mesh.kinds[n] == NodeKind::Interior && !around[n].is_empty())
+        .filter(|&n| {
+            near[n]
+                && !around[n].is_empty()
+                && (mesh.kinds[n] == NodeKind::Interior || rails[n].is_some())
+        })
         .collect();
-    let mut moved = 0;
+    let (mut moved, mut slid) = (0, 0);
     for _ in 0..ROUNDS {
         let mut any = false;
         for &n in &nodes {
@@ -97,33 +111,34 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
             let (worst, _) = worst_around(mesh, &around[n], bounds);
             let start = (worst, past(mesh), strain(mesh, &around[n], bounds));
             let old = mesh.nodes[n];
-            let best = compass_search(
-                mesh,
-                n,
-                &around[n],
-                start,
-                |m, best| {
-                    let (w, _) = worst_around(m, &around[n], bounds);
-                    if !w.is_finite() || w > best.0 + 1e-9 {
-                        return None;
-                    }
-                    let p = past(m);
-                    if p > best.1 + 1e-12 {
-                        return None;
-                    }
-                    Some((w, p, strain(m, &around[n], bounds)))
-                },
-                // corners first, then size and shape, then room
-                |w, best| {
-                    w.0 < best.0 - 1e-9
-                        || (w.0 <= best.0 + 1e-9
-                            && (w.1 < best.1 - 1e-12
-                                || (w.1 <= best.1 + 1e-12 && w.2 < best.2 * (1.0 - 1e-6))))
-                },
-            );
+            let score = |m: &Mesh, best: (f64, f64, f64)| {
+                let (w, _) = worst_around(m, &around[n], bounds);
+                if !w.is_finite() || w > best.0 + 1e-9 {
+                    return None;
+                }
+                let p = past(m);
+                if p > best.1 + 1e-12 {
+                    return None;
+                }
+                Some((w, p, strain(m, &around[n], bounds)))
+            };
+            // corners first, then size and shape, then room
+            let better = |w: (f64, f64, f64), best: (f64, f64, f64)| {
+                w.0 < best.0 - 1e-9
+                    || (w.0 <= best.0 + 1e-9
+                        && (w.1 < best.1 - 1e-12
+                            || (w.1 <= best.1 + 1e-12 && w.2 < best.2 * (1.0 - 1e-6))))
+            };
+            let best = match rails[n] {
+                Some((a, b)) => {
+                    rail_search(mesh, n, (a, b), bounds.boundary_slide, start, score, better)
+                }
+                None => compass_search(mesh, n, &around[n], start, score, better),
+            };
             if best != old {
                 mesh.nodes[n] = best;
                 moved += 1;
+                slid += usize::from(rails[n].is_some());
                 any = true;
             }
         }
@@ -131,7 +146,7 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
             break;
         }
     }
-    moved
+    (moved, slid)
 }
 
 /// The squared degrees the corners round a node come within `MARGIN` of
@@ -152,4 +167,80 @@ fn strain(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
                 .sum::<f64>()
         })
         .sum()
+}
+
+/// For each node, the two boundary neighbours it may slide between: an
+/// input boundary node inside a straight input edge (its two boundary
+/// edges in one group and on one line, the node not an input vertex).
+fn boundary_rails(mesh: &Mesh) -> Vec<Option<(u32, u32)>> {
+    let mut next: Vec<Vec<(u32, u32)>> = vec![Vec::new(); mesh.nodes.len()];
+    for e in &mesh.boundary {
+        next[e.a as usize].push((e.b, e.output_group()));
+        next[e.b as usize].push((e.a, e.output_group()));
+    }
+    (0..mesh.nodes.len())
+        .map(|n| {
+            let [(a, ga), (b, gb)] = next[n][..] else {
+                return None;
+            };
+            if ga != gb || mesh.is_input_vertex(n) {
+                return None;
+            }
+            let (pa, pb, p) = (
+                mesh.nodes[a as usize],
+                mesh.nodes[b as usize],
+                mesh.nodes[n],
+            );
+            let ab = pb - pa;
+            let straight = (p - pa).perp_dot(ab).abs() <= 1e-12 * ab.length_squared();
+            let between = (p - pa).dot(ab) > 0.0 && (p - pb).dot(ab) < 0.0;
+            (straight && between).then_some((a, b))
+        })
+        .collect()
+}
+
+/// The best place for boundary node `n` on the line between its
+/// neighbours `a` and `b`, as the compass search but along the line, at
+/// least `keep` of the way from either (`bound(boundary_slide, _)`).
+fn rail_search<S: Copy>(
+    mesh: &mut Mesh,
+    n: usize,
+    (a, b): (u32, u32),
+    keep: f64,
+    start: S,
+    mut score: impl FnMut(&Mesh, S) -> Option<S>,
+    better: impl Fn(S, S) -> bool,
+) -> glam::DVec2 {
+    let (pa, pb, old) = (
+        mesh.nodes[a as usize],
+        mesh.nodes[b as usize],
+        mesh.nodes[n],
+    );
+    let len = (pb - pa).length();
+    let u = (pb - pa) / len;
+    let t0 = (old - pa).dot(u) / len;
+    let (lo, hi) = (keep.min(t0), (1.0 - keep).max(t0));
+    let mut best = (start, t0);
+    let mut step = 0.125;
+    for _ in 0..6 {
+        let centre = best.1;
+        for t in [centre - step, centre + step] {
+            if t < lo || t > hi {
+                continue;
+            }
+            mesh.nodes[n] = pa + (pb - pa) * t;
+            if let Some(w) = score(mesh, best.0) {
+                if better(w, best.0) {
+                    best = (w, t);
+                }
+            }
+        }
+        step *= 0.5;
+    }
+    mesh.nodes[n] = old;
+    if best.1 == t0 {
+        old
+    } else {
+        pa + (pb - pa) * best.1
+    }
 }

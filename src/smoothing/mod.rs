@@ -4,7 +4,8 @@
 //! the compass search (`compass.rs`) where Laplace does not reach, a
 //! large mesh in strips on all cores (`strips.rs`); `stage.rs` runs them
 //! in turn; `ease.rs` works round the corners still outside the window.
-//! Input boundary nodes never move.
+//! Input boundary nodes stay where they are, but for easing: a node
+//! inside a straight input edge may slide along it there (`ease.rs`).
 
 mod compass;
 mod ease;

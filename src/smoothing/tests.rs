@@ -82,8 +82,75 @@ fn a_corner_past_the_window_is_eased_back_into_it() {
             .fold(0.0, f64::max)
     };
     assert!(worst(&m) > 0.0);
-    assert!(crate::smoothing::ease_bad_corners(&mut m, &bounds) > 0);
+    assert!(crate::smoothing::ease_bad_corners(&mut m, &bounds).0 > 0);
     assert_eq!(worst(&m), 0.0);
+}
+
+/// Two elements in a strip of height 0.5, every node on the input
+/// boundary; the bottom's middle node (1) pushed to x = 0.3 leaves a
+/// corner of 35.5 degrees. `vertices` are the nodes that are input
+/// vertices.
+fn strip_with_a_pushed_bottom_node(vertices: &[u32]) -> Mesh {
+    let mut m = Mesh::default();
+    for p in [
+        (0.0, 0.0),
+        (0.3, 0.0),
+        (2.0, 0.0),
+        (0.0, 0.5),
+        (1.0, 0.5),
+        (2.0, 0.5),
+    ] {
+        m.add_node(DVec2::new(p.0, p.1), NodeKind::Boundary);
+    }
+    m.quads = vec![[0, 1, 4, 3], [1, 2, 5, 4]];
+    for (a, b) in [(0, 1), (1, 2), (2, 5), (5, 4), (4, 3), (3, 0)] {
+        m.boundary.push(crate::mesh::BoundaryEdge {
+            a,
+            b,
+            group: 0,
+            tag: None,
+        });
+    }
+    let mut at: Vec<[u64; 2]> = vertices
+        .iter()
+        .map(|&n| {
+            let p = m.nodes[n as usize];
+            [p.x.to_bits(), p.y.to_bits()]
+        })
+        .collect();
+    at.sort_unstable();
+    m.input_vertices = Some(at);
+    m
+}
+
+/// A boundary node inside a straight input edge slides along it until
+/// the corners round it are in the window; it stays on the edge.
+#[test]
+fn a_boundary_node_slides_along_its_edge_to_ease_a_corner() {
+    let mut m = strip_with_a_pushed_bottom_node(&[0, 2, 3, 5]);
+    let bounds = ElementBounds::default();
+    assert!(crate::element_quality::badness_of(&m, 1, &bounds) > 0.0);
+    let (moved, slid) = crate::smoothing::ease_bad_corners(&mut m, &bounds);
+    assert!(slid > 0 && moved >= slid, "{moved} moves, {slid} slides");
+    assert_eq!(m.nodes[1].y, 0.0, "the node left its edge");
+    assert!(m.nodes[1].x > 0.4 && m.nodes[1].x < 1.6, "{}", m.nodes[1]);
+    for q in 0..2 {
+        assert_eq!(crate::element_quality::badness_of(&m, q, &bounds), 0.0);
+    }
+}
+
+/// An input vertex stays where it is, even where its edges run on in one
+/// line (a vertex that splits a side for its segment counts or tags).
+#[test]
+fn an_input_vertex_on_a_straight_side_never_slides() {
+    let mut m = strip_with_a_pushed_bottom_node(&[0, 1, 2, 3, 5]);
+    crate::smoothing::ease_bad_corners(&mut m, &ElementBounds::default());
+    assert_eq!(m.nodes[1], DVec2::new(0.3, 0.0));
+    // a mesh that does not know its input's vertices moves none either
+    let mut m = strip_with_a_pushed_bottom_node(&[]);
+    m.input_vertices = None;
+    crate::smoothing::ease_bad_corners(&mut m, &ElementBounds::default());
+    assert_eq!(m.nodes[1], DVec2::new(0.3, 0.0));
 }
 
 #[test]
