@@ -183,6 +183,13 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   within this factor of the size of the loop's edges it takes (the
 %   elements across them are about that size, and neighbours may differ
 %   by max_size_jump at most).
+% coarser_when_over: a uniform run whose mesh has more than this many
+%   times the domain's area over the size squared in elements (a small
+%   hole, a narrow part or fine fixed counts, whose fine elements spread
+%   inward until the fronts meet) is meshed again with each variant V of
+%   retry_needs(V, many_elements), its retry_bound/3 bounds in place;
+%   that mesh is kept where it is nearer the bounds, or as near with
+%   fewer elements, and the trace's first step says so. 0: never.
 % boundary_slide: where an element is still past the bounds after the
 %   clean-up, easing may slide a boundary node that lies inside a
 %   straight input edge along that edge (never an input vertex), at least
@@ -235,6 +242,7 @@ bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
+bound(coarser_when_over, 1.2).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %
@@ -244,6 +252,9 @@ bound(boundary_slide, 0.2).
 % place of the bounds of those names, in this order, until one mesh is
 % within the bounds; the mesh with fewest elements outside is kept and
 % the trace's first step says which.
+% coarser_fine_features lets the transitions see a small feature's fine
+% edges in a uniform run (uniform_size_band 1.5), so that they grow back
+% to the size: tried on a mesh with many elements (coarser_when_over).
 % uniform_at_the_size meshes a domain whose coarse fixed counts graded it
 % (coarse_boundary_grading) at the size instead, as without that bound:
 % where the graded mesh falls short, the uniform one is often within.
@@ -265,6 +276,7 @@ bound(boundary_slide, 0.2).
 % ;  N = coarse_boundary_grading, V = 0
 % ;  false.
 retry_bound(uniform_at_the_size, coarse_boundary_grading, 0).
+retry_bound(coarser_fine_features, uniform_size_band, 1.5).
 retry_bound(refine_fixed_counts, uniform_size_band, 1.5).
 retry_bound(refine_fixed_counts, refine_ratio, 0.45).
 retry_bound(refine_fixed_counts, coarse_boundary_grading, 0).
@@ -295,11 +307,15 @@ at_the_size(uniform_flatter_near_horizontal, flatter_near_horizontal).
 %
 % A retry tried only on a domain with What: fixed_counts, an edge with a
 % fixed segment count; coarse_boundary, a run graded for fixed counts
-% coarser than the size (coarse_boundary_grading).
+% coarser than the size (coarse_boundary_grading); many_elements, a
+% uniform mesh with more elements than bound(coarser_when_over, K) times
+% the domain's area over the size squared: tried then whether or not the
+% mesh is within the bounds, never as a retry of one that falls short.
 %
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.
 retry_needs(uniform_at_the_size, coarse_boundary).
+retry_needs(coarser_fine_features, many_elements).
 retry_needs(V, coarse_boundary) :-
     at_the_size(V, _).
 retry_needs(refine_fixed_counts, fixed_counts).

@@ -729,6 +729,9 @@ fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
     ] {
         let opts = Options::default().with_trace(true);
         let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+        // the retries alone: no coarser mesh tried after them
+        kb.consult_file("tests/kb/no-coarser.pl")
+            .expect("consulted");
         let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
         let free = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).expect("meshed");
         assert!(
@@ -883,6 +886,61 @@ fn boundary_nodes_slide_along_their_edges_where_elements_have_no_other_room() {
         "{:?}",
         unslid.quality
     );
+}
+
+/// A uniform mesh with many more elements than the domain's area over
+/// the size squared asks for (tests/bounds/coarser-fine-features.json,
+/// the generator's seed 214: 120 elements where that is 57) is meshed
+/// again with the transitions seeing its small features' fine edges
+/// (`retry_needs(coarser_fine_features, many_elements)`), and that mesh,
+/// within the bounds with fewer elements, is kept: the trace's first step
+/// says both. With `bound(coarser_when_over, 0)` the first mesh stays.
+#[test]
+fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
+    let text =
+        std::fs::read_to_string("tests/bounds/coarser-fine-features.json").expect("the file");
+    let domain = Domain::from_json(&serde_json::from_str(&text).expect("JSON")).expect("valid");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let coarser =
+        mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let mut off = KnowledgeBase::builtin().expect("the built-in KB loads");
+    off.consult_file("tests/kb/no-coarser.pl")
+        .expect("consulted");
+    let first = mesh_free_then_blocks(&domain, None, &mut off, &opts, &mut |_| {}).expect("meshed");
+    // its sharpest input corner is 30.9 degrees
+    assert!(
+        within_bounds(&coarser.quality, 30.9),
+        "{:?}",
+        coarser.quality
+    );
+    let (n, m) = (coarser.mesh.quads().len(), first.mesh.quads().len());
+    assert!(n * 10 < m * 9, "{n} coarser against {m}");
+    let told = &coarser.trace[0];
+    assert!(
+        told.action.starts_with("coarser(coarser_fine_features"),
+        "{}",
+        told.action
+    );
+    assert!(
+        told.redesign[0].starts_with(&format!(
+            "{m} elements, over bound(coarser_when_over, 1.2) times the domain's area over the size squared"
+        )),
+        "{:?}",
+        told.redesign
+    );
+    assert!(
+        told.redesign[1].starts_with(&format!(
+            "coarser coarser_fine_features (bound(uniform_size_band, 1.5)): {n} elements, 0 elements out of bounds"
+        )),
+        "{:?}",
+        told.redesign
+    );
+    assert!(!first.trace[0]
+        .redesign
+        .iter()
+        .any(|t| t.contains("coarser_when_over")));
+    assert_sound(&coarser.mesh, &domain, "seed 214");
 }
 
 /// The same domains graded: an interior limit of six times the boundary

@@ -14,6 +14,7 @@
 //! is meshed free by the rules at its size; the trace's first step says
 //! which mesh was kept and what each layout gave.
 
+mod coarser;
 mod four_sided;
 mod free_blocks;
 pub mod intervals;
@@ -88,8 +89,21 @@ pub fn mesh_in_blocks(
 /// outside the bounds, the better of the two kept, then the retries of
 /// `retry_bound/3`. The trace's first step says which mesh was kept, and
 /// what each tried gave. A graded run, and a domain with cracks, are
-/// meshed free.
+/// meshed free. Where the mesh kept has many more elements than the
+/// domain's area asks for, it is meshed again coarser (coarser.rs).
 pub fn mesh_free_then_blocks(
+    domain: &Domain,
+    boundary: Option<crate::pipeline::RunBoundary>,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
+    let r = mesh_uniform_run(domain, boundary, kb, opts, progress)?;
+    coarser::coarser_when_over(domain, kb, opts, r)
+}
+
+/// `mesh_free_then_blocks` but for the coarser meshes of coarser.rs.
+fn mesh_uniform_run(
     domain: &Domain,
     boundary: Option<crate::pipeline::RunBoundary>,
     kb: &mut KnowledgeBase,
@@ -181,6 +195,7 @@ pub fn mesh_free_then_blocks(
                     needs.iter().all(|n| match n.as_str() {
                         "fixed_counts" => fixed_counts,
                         "coarse_boundary" => coarse_boundary,
+                        "many_elements" => false,
                         _ => true,
                     })
                 })

@@ -62,7 +62,7 @@ fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
 /// plain count the trace reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct Score {
-    weight: usize,
+    pub(super) weight: usize,
     pub(super) outside: usize,
     pub(super) irregular: usize,
 }

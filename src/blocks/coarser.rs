@@ -1,0 +1,110 @@
+//! Coarser where small features spread their fine elements: a uniform
+//! run whose mesh has more than `bound(coarser_when_over, K)` times the
+//! domain's area over the size squared in elements (a small hole, a
+//! narrow part or fine fixed counts whose elements spread inward until
+//! the fronts meet) is meshed again with each variant of
+//! `retry_needs(V, many_elements)` (its `retry_bound/3` bounds in place:
+//! the transitions then grow those elements back to the size), and that
+//! mesh kept where it is nearer the bounds, or as near with fewer
+//! elements. The trace's first step says what was tried and kept.
+
+use super::{mesh_uniform_run, Score};
+use crate::input::domain::Domain;
+use crate::kb::KnowledgeBase;
+use crate::pipeline::{Error, MeshResult, Options};
+use crate::report::trace::By;
+
+/// `r`, the uniform run's mesh, or a coarser one of the same domain
+/// where `r` has many more elements than its area asks for.
+pub(super) fn coarser_when_over(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    r: MeshResult,
+) -> Result<MeshResult, Error> {
+    let settings = kb.settings()?;
+    let over = settings.host.coarser_when_over;
+    let size = opts.size.unwrap_or(domain.size());
+    let graded = opts
+        .max_size
+        .or(domain.max_size())
+        .is_some_and(|m| m > size * (1.0 + 1e-9));
+    let area_count = domain.area() / (size * size);
+    let count = r.mesh.quads.len();
+    if over <= 0.0 || graded || (count as f64) <= over * area_count {
+        return Ok(r);
+    }
+    let variants: Vec<_> = kb
+        .retry_variants()?
+        .into_iter()
+        .filter(|(_, _, needs)| needs.iter().any(|n| n == "many_elements"))
+        .collect();
+    if variants.is_empty() {
+        return Ok(r);
+    }
+    let mut said = vec![format!(
+        "{count} elements, over bound(coarser_when_over, {over}) times the domain's area over the size squared ({area_count:.0})"
+    )];
+    let user_files = kb.user_files().to_vec();
+    let mut kept = (Score::of(&r, &settings, domain), r, None);
+    for (variant, bounds, _) in &variants {
+        let words = bounds
+            .iter()
+            .map(|(n, x)| format!("bound({n}, {x})"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let mut other = KnowledgeBase::with_bounds(&user_files, bounds)?;
+        let c = match mesh_uniform_run(domain, None, &mut other, opts, &mut |_| {}) {
+            Ok(c) => c,
+            Err(e) => {
+                said.push(format!("coarser {variant} ({words}): {e}"));
+                continue;
+            }
+        };
+        let s = Score::of(&c, &settings, domain);
+        let nearer = (s.weight, s.outside) < (kept.0.weight, kept.0.outside);
+        let as_near = (s.weight, s.outside) == (kept.0.weight, kept.0.outside)
+            && c.mesh.quads.len() < kept.1.mesh.quads.len();
+        let verdict = if nearer || as_near {
+            "kept"
+        } else {
+            "not kept"
+        };
+        said.push(format!(
+            "coarser {variant} ({words}): {} elements, {}: {verdict}",
+            c.mesh.quads.len(),
+            s.words()
+        ));
+        if nearer || as_near {
+            kept = (s, c, Some(variant.clone()));
+        }
+    }
+    let (_, r, variant) = kept;
+    Ok(tell_first(r, variant.as_deref(), said))
+}
+
+/// Puts `said` first in the trace's first step (a step of its own where
+/// the run told nothing before), its action `coarser(V, ...)` where
+/// variant V's mesh is the one kept.
+fn tell_first(r: MeshResult, variant: Option<&str>, said: Vec<String>) -> MeshResult {
+    let told = r
+        .trace
+        .first()
+        .is_some_and(|t| t.by == By::Block && t.edge == [-1, -1]);
+    let mut r = if told {
+        r
+    } else {
+        super::with_first_step(r, "free", vec![])
+    };
+    let Some(first) = r.trace.first_mut() else {
+        return r;
+    };
+    if let Some(v) = variant {
+        first.action = match first.action.as_str() {
+            "free" => format!("coarser({v})"),
+            a => format!("coarser({v}, {a})"),
+        };
+    }
+    first.redesign.splice(0..0, said);
+    r
+}
