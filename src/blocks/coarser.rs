@@ -8,27 +8,28 @@
 //! mesh kept where it is nearer the bounds, or as near with fewer
 //! elements. The trace's first step says what was tried and kept.
 
-use super::{mesh_uniform_run, Score};
+use super::retries::bound_words;
+use super::{mesh_uniform_run, Score, UniformRun};
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
 use crate::pipeline::{Error, MeshResult, Options};
 use crate::report::trace::By;
 
-/// `r`, the uniform run's mesh, or a coarser one of the same domain
-/// where `r` has many more elements than its area asks for.
+/// The uniform run's mesh, or a coarser one of the same domain where it
+/// has many more elements than its area asks for.
 pub(super) fn coarser_when_over(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     opts: &Options,
-    r: MeshResult,
+    run: UniformRun,
 ) -> Result<MeshResult, Error> {
-    let settings = kb.settings()?;
+    let UniformRun {
+        result: r,
+        settings,
+        graded,
+    } = run;
     let over = settings.host.coarser_when_over;
     let size = opts.size.unwrap_or(domain.size());
-    let graded = opts
-        .max_size
-        .or(domain.max_size())
-        .is_some_and(|m| m > size * (1.0 + 1e-9));
     let area_count = domain.area() / (size * size);
     let count = r.mesh.quads.len();
     if over <= 0.0 || graded || (count as f64) <= over * area_count {
@@ -48,14 +49,10 @@ pub(super) fn coarser_when_over(
     let user_files = kb.user_files().to_vec();
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     for (variant, bounds, _) in &variants {
-        let words = bounds
-            .iter()
-            .map(|(n, x)| format!("bound({n}, {x})"))
-            .collect::<Vec<_>>()
-            .join(", ");
+        let words = bound_words(bounds);
         let mut other = KnowledgeBase::with_bounds(&user_files, bounds)?;
         let c = match mesh_uniform_run(domain, None, &mut other, opts, &mut |_| {}) {
-            Ok(c) => c,
+            Ok(c) => c.result,
             Err(e) => {
                 said.push(format!("coarser {variant} ({words}): {e}"));
                 continue;

@@ -98,8 +98,16 @@ pub fn mesh_free_then_blocks(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
-    let r = mesh_uniform_run(domain, boundary, kb, opts, progress)?;
-    coarser::coarser_when_over(domain, kb, opts, r)
+    let run = mesh_uniform_run(domain, boundary, kb, opts, progress)?;
+    coarser::coarser_when_over(domain, kb, opts, run)
+}
+
+/// What `mesh_uniform_run` made, with the settings it went by and
+/// whether it was graded by a `max_size` (coarser.rs asks both).
+struct UniformRun {
+    result: MeshResult,
+    settings: crate::settings::Settings,
+    graded: bool,
 }
 
 /// `mesh_free_then_blocks` but for the coarser meshes of coarser.rs.
@@ -109,7 +117,7 @@ fn mesh_uniform_run(
     kb: &mut KnowledgeBase,
     opts: &Options,
     progress: &mut dyn FnMut(usize),
-) -> Result<MeshResult, Error> {
+) -> Result<UniformRun, Error> {
     let started = std::time::Instant::now();
     let kb_before = kb.stats;
     let boundary = match boundary {
@@ -119,12 +127,36 @@ fn mesh_uniform_run(
             discretise_for_run(domain, opts.size)?
         }
     };
-    let mut prepared = prepare_run(domain, boundary, kb, opts)?;
+    let prepared = prepare_run(domain, boundary, kb, opts)?;
     let settings = prepared.settings().clone();
     // graded by a coarse boundary only, the run is a uniform one's:
     // blocks, retries and all (the blocks follow the boundary's counts)
+    let graded = prepared.is_graded() && !prepared.is_graded_for_coarse_boundary();
+    let result = choose_uniform_mesh(
+        domain, prepared, &settings, graded, started, kb_before, kb, opts, progress,
+    )?;
+    Ok(UniformRun {
+        result,
+        settings,
+        graded,
+    })
+}
+
+/// The body of `mesh_uniform_run`: blocks first, free, retries, from a
+/// prepared run (`started` and `kb_before` taken before it was prepared).
+#[allow(clippy::too_many_arguments)]
+fn choose_uniform_mesh(
+    domain: &Domain,
+    mut prepared: crate::pipeline::PreparedRun,
+    settings: &crate::settings::Settings,
+    graded: bool,
+    started: std::time::Instant,
+    kb_before: crate::kb::KbStats,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    progress: &mut dyn FnMut(usize),
+) -> Result<MeshResult, Error> {
     let coarse_boundary = prepared.is_graded_for_coarse_boundary();
-    let graded = prepared.is_graded() && !coarse_boundary;
     let share = settings.host.blocks_when_out_of_bounds;
     let mut tried: Vec<String> = prepared.grown_to_words().into_iter().collect();
     // the blocks first: where a layout's mesh is within the bounds, no
@@ -135,7 +167,7 @@ fn mesh_uniform_run(
             "blocks first (bound(blocks_first, {}))",
             settings.host.blocks_first
         ));
-        let best = best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?;
+        let best = best_block_mesh(domain, kb, opts, settings, kb_before, share, &mut tried)?;
         if let Some((b, mut r, name)) = best {
             if b.outside == 0 {
                 r.phases.blocks =
@@ -154,7 +186,7 @@ fn mesh_uniform_run(
     if share <= 0.0 || graded {
         return Ok(told(free, tried));
     }
-    let score = Score::of(&free, &settings, domain);
+    let score = Score::of(&free, settings, domain);
     if score.outside == 0 {
         if first_blocks.is_some() {
             // the blocks' time before it, and what they gave, told
@@ -174,7 +206,7 @@ fn mesh_uniform_run(
     // a layout mostly of free blocks would mesh the domain free again
     let best = match first_blocks {
         Some(best) => best,
-        None => best_block_mesh(domain, kb, opts, &settings, kb_before, share, &mut tried)?,
+        None => best_block_mesh(domain, kb, opts, settings, kb_before, share, &mut tried)?,
     };
     let mut best = best.filter(|(b, _, _)| *b < score);
     let mut retries_time = 0.0;
@@ -207,7 +239,7 @@ fn mesh_uniform_run(
                 domain,
                 &user_files,
                 opts,
-                &settings,
+                settings,
                 share,
                 &variants,
                 cores,

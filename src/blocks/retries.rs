@@ -83,12 +83,7 @@ fn retry_variant(
     bounds: &[(String, f64)],
     tried: &mut Vec<String>,
 ) -> Result<Option<(Score, MeshResult, String)>, Error> {
-    let words = bounds
-        .iter()
-        .map(|(n, x)| format!("bound({n}, {x})"))
-        .collect::<Vec<_>>()
-        .join(", ");
-    let said = format!("retry {variant} ({words})");
+    let said = format!("retry {variant} ({})", bound_words(bounds));
     let mut other = KnowledgeBase::with_bounds(user_files, bounds)?;
     let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
         Ok(r) => r,
@@ -110,6 +105,15 @@ fn retry_variant(
         Some((b, m, name)) => (b, m, format!("retry({variant}, {name})")),
         None => (s, r, format!("retry({variant})")),
     }))
+}
+
+/// A variant's bounds as the trace gives them: `bound(N, X), ...`.
+pub(super) fn bound_words(bounds: &[(String, f64)]) -> String {
+    bounds
+        .iter()
+        .map(|(n, x)| format!("bound({n}, {x})"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]

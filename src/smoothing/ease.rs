@@ -217,8 +217,7 @@ fn rail_search<S: Copy>(
         mesh.nodes[n],
     );
     let len = (pb - pa).length();
-    let u = (pb - pa) / len;
-    let t0 = (old - pa).dot(u) / len;
+    let t0 = (old - pa).dot((pb - pa) / len) / len;
     let (lo, hi) = (keep.min(t0), (1.0 - keep).max(t0));
     let mut best = (start, t0);
     let mut step = 0.125;
