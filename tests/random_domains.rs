@@ -943,6 +943,43 @@ fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
     assert_sound(&coarser.mesh, &domain, "seed 214");
 }
 
+/// What is meshed once is not meshed again: a retry whose free mesh is
+/// the first run's (its bounds changed nothing there) is not tried in
+/// blocks, and the coarser run leaves the retries to the first run,
+/// which made them (a retry's engine has the user's files and its own
+/// bounds alone, the same in both runs). A 9.5-degree spike: its free
+/// mesh falls short, is retried, and has more elements than its area asks.
+#[test]
+fn what_is_meshed_once_is_not_meshed_again() {
+    let spike = r#"{"name": "spike", "size": 1, "outer": {"points": [[0,0],[6,0],[6,1.0]]}}"#;
+    let domain = Domain::from_json_str(spike).expect("valid");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let told = &r.trace[0].redesign;
+    let retries: Vec<&String> = told.iter().filter(|t| t.starts_with("retry ")).collect();
+    assert!(!retries.is_empty(), "{told:?}");
+    // each retry's free mesh, then either its blocks or why none
+    let again = retries
+        .iter()
+        .filter(|t| t.ends_with("the first run's free mesh again, not tried in blocks"))
+        .count();
+    assert!(again > 0, "{told:?}");
+    for t in &retries {
+        let variant = t.split(" (").next().expect("named");
+        let lines: Vec<&&String> = retries.iter().filter(|u| u.starts_with(variant)).collect();
+        let skipped = lines.iter().any(|u| u.ends_with("not tried in blocks"));
+        let blocks = lines.iter().any(|u| u.contains("element sizes"));
+        assert!(!(skipped && blocks), "{lines:?}");
+    }
+    assert!(
+        told.iter()
+            .any(|t| t.starts_with("coarser coarser_fine_features: no retries of its own")),
+        "{told:?}"
+    );
+    assert_sound(&r.mesh, &domain, "spike");
+}
+
 /// The same domains graded: an interior limit of six times the boundary
 /// size (the graded benchmark's), so the size field, the coarsening
 /// rules (t3) and the taller rows all run (FREEMESH_RANDOM_MAX_SIZE=K

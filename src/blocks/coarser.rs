@@ -9,7 +9,7 @@
 //! elements. The trace's first step says what was tried and kept.
 
 use super::retries::bound_words;
-use super::{mesh_uniform_run, Score, UniformRun};
+use super::{mesh_uniform_run, Retries, Score, UniformRun};
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
 use crate::pipeline::{Error, MeshResult, Options};
@@ -27,6 +27,7 @@ pub(super) fn coarser_when_over(
         result: r,
         settings,
         graded,
+        retried,
     } = run;
     let over = settings.host.coarser_when_over;
     let size = opts.size.unwrap_or(domain.size());
@@ -50,8 +51,28 @@ pub(super) fn coarser_when_over(
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     for (variant, bounds, _) in &variants {
         let words = bound_words(bounds);
+        // a second engine with the same bounds where the first run had
+        // one (it makes the finest layout while this one makes the others)
+        let second = kb.has_second_engine().then(|| {
+            KnowledgeBase::second_engine_loading_with_bounds(user_files.clone(), bounds.clone())
+        });
         let mut other = KnowledgeBase::with_bounds(&user_files, bounds)?;
-        let c = match mesh_uniform_run(domain, None, &mut other, opts, &mut |_| {}) {
+        if let Some(second) = second {
+            other.take_second_engine(second);
+        }
+        let run = mesh_uniform_run(
+            domain,
+            None,
+            &mut other,
+            opts,
+            if retried {
+                Retries::LeftToTheFirstRun
+            } else {
+                Retries::Tried
+            },
+            &mut |_| {},
+        );
+        let c = match run {
             Ok(c) => c.result,
             Err(e) => {
                 said.push(format!("coarser {variant} ({words}): {e}"));
@@ -72,6 +93,11 @@ pub(super) fn coarser_when_over(
             c.mesh.quads.len(),
             s.words()
         ));
+        if retried {
+            said.push(format!(
+                "coarser {variant}: no retries of its own (a retry's engine has the user's files and its own bounds alone: they are the first run's, mesh for mesh)"
+            ));
+        }
         if nearer || as_near {
             kept = (s, c, Some(variant.clone()));
         }

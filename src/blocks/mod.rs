@@ -98,7 +98,7 @@ pub fn mesh_free_then_blocks(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
-    let run = mesh_uniform_run(domain, boundary, kb, opts, progress)?;
+    let run = mesh_uniform_run(domain, boundary, kb, opts, Retries::Tried, progress)?;
     coarser::coarser_when_over(domain, kb, opts, run)
 }
 
@@ -108,6 +108,19 @@ struct UniformRun {
     result: MeshResult,
     settings: crate::settings::Settings,
     graded: bool,
+    /// Whether its mesh fell short and the retries were made.
+    retried: bool,
+}
+
+/// Whether a uniform run meshes the domain again with the variants of
+/// `retry_bound/3` where its mesh falls short.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Retries {
+    Tried,
+    /// Not tried: a coarser run where the first run made them (a retry
+    /// builds its engine from the user's files and its own bounds alone,
+    /// so they would be the first run's again, mesh for mesh).
+    LeftToTheFirstRun,
 }
 
 /// `mesh_free_then_blocks` but for the coarser meshes of coarser.rs.
@@ -116,6 +129,7 @@ fn mesh_uniform_run(
     boundary: Option<crate::pipeline::RunBoundary>,
     kb: &mut KnowledgeBase,
     opts: &Options,
+    retries: Retries,
     progress: &mut dyn FnMut(usize),
 ) -> Result<UniformRun, Error> {
     let started = std::time::Instant::now();
@@ -132,24 +146,37 @@ fn mesh_uniform_run(
     // graded by a coarse boundary only, the run is a uniform one's:
     // blocks, retries and all (the blocks follow the boundary's counts)
     let graded = prepared.is_graded() && !prepared.is_graded_for_coarse_boundary();
+    let mut retried = false;
     let result = choose_uniform_mesh(
-        domain, prepared, &settings, graded, started, kb_before, kb, opts, progress,
+        domain,
+        prepared,
+        &settings,
+        graded,
+        (retries, &mut retried),
+        started,
+        kb_before,
+        kb,
+        opts,
+        progress,
     )?;
     Ok(UniformRun {
         result,
         settings,
         graded,
+        retried,
     })
 }
 
 /// The body of `mesh_uniform_run`: blocks first, free, retries, from a
-/// prepared run (`started` and `kb_before` taken before it was prepared).
+/// prepared run (`started` and `kb_before` taken before it was prepared);
+/// `retried` is set where the retries are made.
 #[allow(clippy::too_many_arguments)]
 fn choose_uniform_mesh(
     domain: &Domain,
     mut prepared: crate::pipeline::PreparedRun,
     settings: &crate::settings::Settings,
     graded: bool,
+    (retries, retried): (Retries, &mut bool),
     started: std::time::Instant,
     kb_before: crate::kb::KbStats,
     kb: &mut KnowledgeBase,
@@ -214,7 +241,9 @@ fn choose_uniform_mesh(
     if best.as_ref().map_or(score, |b| b.0).outside > 0 {
         let sharpest = sharpest_input_corner(&free.mesh, domain);
         let retry_above = settings.host.retry_sharpest_corner;
-        if sharpest < retry_above {
+        if retries == Retries::LeftToTheFirstRun {
+            tried.push("no retries: the first run made them (a retry's engine has the user's files and its own bounds, the same in both runs)".into());
+        } else if sharpest < retry_above {
             tried.push(format!(
                 "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
             ));
@@ -235,6 +264,7 @@ fn choose_uniform_mesh(
             let user_files = kb.user_files().to_vec();
             let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
             let retries_started = std::time::Instant::now();
+            *retried = true;
             let retries = retries::retry_in_parallel(
                 domain,
                 &user_files,
@@ -243,6 +273,7 @@ fn choose_uniform_mesh(
                 share,
                 &variants,
                 cores,
+                retries::fingerprint(&free.mesh),
             );
             retries_time = retries_started.elapsed().as_secs_f64();
             for (retried, said) in retries {

@@ -1,7 +1,8 @@
 //! Retries: where a uniform run's free and block meshes both fall short,
 //! the domain is meshed again with each variant of `retry_bound/3` (the
 //! bounds it names in place), free and then in blocks, the variants side
-//! by side on the machine's cores.
+//! by side on the machine's cores; a variant whose free mesh is the first
+//! run's (its bounds changed nothing there) is not tried in blocks.
 
 use super::{best_block_mesh, Score};
 use crate::input::domain::Domain;
@@ -19,7 +20,10 @@ type Retried = (
 /// in order. Each meshes on an engine of its own, so as many run at once
 /// as there are cores, each core taking the next variant as it is free;
 /// a variant after one found within the bounds is not begun, and one
-/// begun before is dropped, trace lines and all.
+/// begun before is dropped, trace lines and all. A variant whose free
+/// mesh is the first run's (`first_free`, its fingerprint) is not tried
+/// in blocks.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn retry_in_parallel(
     domain: &Domain,
     user_files: &[String],
@@ -28,6 +32,7 @@ pub(super) fn retry_in_parallel(
     share: f64,
     variants: &[crate::kb::RetryVariant],
     workers: usize,
+    first_free: u64,
 ) -> Vec<Retried> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
@@ -43,7 +48,7 @@ pub(super) fn retry_in_parallel(
         let (variant, bounds, _) = &variants[i];
         let mut said = Vec::new();
         let r = retry_variant(
-            domain, user_files, opts, settings, share, variant, bounds, &mut said,
+            domain, user_files, opts, settings, share, variant, bounds, first_free, &mut said,
         );
         if matches!(&r, Ok(Some((s, _, _))) if s.outside == 0) {
             within.fetch_min(i, Ordering::SeqCst);
@@ -81,6 +86,7 @@ fn retry_variant(
     share: f64,
     variant: &str,
     bounds: &[(String, f64)],
+    first_free: u64,
     tried: &mut Vec<String>,
 ) -> Result<Option<(Score, MeshResult, String)>, Error> {
     let said = format!("retry {variant} ({})", bound_words(bounds));
@@ -97,6 +103,13 @@ fn retry_variant(
     if s.outside == 0 {
         return Ok(Some((s, r, format!("retry({variant})"))));
     }
+    if fingerprint(&r.mesh) == first_free {
+        // the variant's bounds changed nothing the free run reads
+        tried.push(format!(
+            "{said}: the first run's free mesh again, not tried in blocks"
+        ));
+        return Ok(Some((s, r, format!("retry({variant})"))));
+    }
     let mut also = vec![];
     let before = other.stats;
     let blocks = best_block_mesh(domain, &mut other, opts, settings, before, share, &mut also)?;
@@ -105,6 +118,17 @@ fn retry_variant(
         Some((b, m, name)) => (b, m, format!("retry({variant}, {name})")),
         None => (s, r, format!("retry({variant})")),
     }))
+}
+
+/// A mesh's nodes and elements hashed (the same mesh, the same number).
+pub(super) fn fingerprint(mesh: &crate::mesh::Mesh) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::hash::DefaultHasher::new();
+    for p in &mesh.nodes {
+        (p.x.to_bits(), p.y.to_bits()).hash(&mut h);
+    }
+    mesh.quads.hash(&mut h);
+    h.finish()
 }
 
 /// A variant's bounds as the trace gives them: `bound(N, X), ...`.
@@ -138,7 +162,7 @@ mod tests {
         let mut kb = KnowledgeBase::builtin().unwrap();
         let settings = kb.settings().unwrap();
         let opts = Options::default();
-        retry_in_parallel(&domain, &[], &opts, &settings, 0.5, &variants(), workers)
+        retry_in_parallel(&domain, &[], &opts, &settings, 0.5, &variants(), workers, 0)
             .into_iter()
             .map(|(r, said)| (said, r.unwrap().map(|k| k.0)))
             .collect()
