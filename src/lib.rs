@@ -81,7 +81,8 @@ pub use features::{EdgeFeature, FrontFeatures, NodeFeature};
 pub use io::dxf::{read_dxf, DomainFile, Outline};
 pub use io::mesh_reader::{read_mesh, ReadError, ReadMesh};
 pub use io::output::{
-    check_writable, interrupt as interrupt_writes, render, write_all, Format, OutputError,
+    check_writable, interrupt as interrupt_writes, interrupted_flag, render, was_interrupted,
+    write_all, Format, OutputError,
 };
 pub use pipeline::{discretise_for_run, domain_features, mesh_boundary, RunBoundary};
 pub use repl::{Flow, Repl};

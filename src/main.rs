@@ -26,7 +26,14 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    match run(cli) {
+    let done = run(cli);
+    // an interrupted run ends as a shell reports an interrupted command,
+    // whether it stopped before its outputs or after
+    if freemesh::was_interrupted() {
+        freemesh::interrupt_writes();
+        return ExitCode::from(130);
+    }
+    match done {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let msg = format!("{e:#}");

@@ -114,5 +114,13 @@ pub fn remove_temporaries_on_interrupt() -> Result<()> {
         freemesh::interrupt_writes();
         std::process::exit(130);
     })?;
+    // the handler above runs on a thread of its own, which a run about to
+    // put its outputs in place can outrun: a flag set in the signal
+    // handler itself stops the renames, and the exit code says so
+    // (signal-hook calls the handler installed before its own)
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    for signal in [SIGINT, SIGTERM, SIGHUP] {
+        signal_hook::flag::register(signal, freemesh::interrupted_flag())?;
+    }
     Ok(())
 }

@@ -34,6 +34,10 @@ pub enum OutputError {
     /// The extension names no known format.
     #[error("{0}: unknown output format (use .msh, .vtk, .svg, .json or .inp)")]
     UnknownFormat(String),
+    /// The run was interrupted (Ctrl-C, a termination request) before
+    /// its outputs were all in place: none is.
+    #[error("interrupted: no output written")]
+    Interrupted,
     /// The file could not be written.
     #[error("{path}: cannot write: {reason}")]
     Io {
@@ -42,6 +46,25 @@ pub enum OutputError {
         /// Why (as text: an error chain would repeat the system's reason).
         reason: String,
     },
+}
+
+/// Set by the signal handler itself (`interrupted_flag`) the moment an
+/// interruption comes, before any thread runs on: the renames look at it,
+/// so that a run interrupted while its temporaries are there never puts
+/// them in place, whichever thread the handler's work runs on.
+static INTERRUPTED: std::sync::OnceLock<std::sync::Arc<std::sync::atomic::AtomicBool>> =
+    std::sync::OnceLock::new();
+
+/// The flag an interruption sets (for `signal_hook::flag::register`).
+pub fn interrupted_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    INTERRUPTED.get_or_init(Default::default).clone()
+}
+
+/// Whether an interruption came.
+pub fn was_interrupted() -> bool {
+    INTERRUPTED
+        .get()
+        .is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst))
 }
 
 /// The temporaries being written, so that an interrupted run can remove
@@ -168,6 +191,11 @@ pub fn write_all(files: &[(PathBuf, String)]) -> Result<(), OutputError> {
         // renamed while the list is held: an interruption removes the
         // temporary or finds it renamed, never half of each
         let mut list = temporaries();
+        if was_interrupted() {
+            drop(list);
+            remove_all();
+            return Err(OutputError::Interrupted);
+        }
         let renamed = std::fs::rename(tmp, path);
         list.retain(|t| t != tmp);
         drop(list);
