@@ -611,6 +611,13 @@ fn mesh_one(
                 ph.retries
             );
         }
+        if ph.coarser > 0.0 {
+            eprintln!(
+                "{}: coarser pass {:.3} s (the meshes it made or replaced and did not keep, bound(coarser_when_over, K); the kept mesh's own stages above and below)",
+                domain.name(),
+                ph.coarser
+            );
+        }
         eprintln!(
             "{}: engine start {:.3} s (before the run: built, rules consulted); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
             domain.name(),
@@ -619,7 +626,14 @@ fn mesh_one(
             ph.recursion,
             ph.smoothing,
             ph.check,
-            elapsed - ph.prepare - ph.recursion - ph.smoothing - ph.check - ph.blocks - ph.retries
+            elapsed
+                - ph.prepare
+                - ph.recursion
+                - ph.smoothing
+                - ph.check
+                - ph.blocks
+                - ph.retries
+                - ph.coarser
         );
     }
     Ok(())

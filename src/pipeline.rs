@@ -206,6 +206,10 @@ pub struct Phases {
     /// Where the best mesh fell short: the meshes of `retry_bound/3`'s
     /// variants (wall time: as many at once as there are cores).
     pub retries: f64,
+    /// Where a uniform mesh had many more elements than its area asks
+    /// for: the runs of the coarser pass not kept (the first run's where
+    /// a coarser mesh is kept, the coarser runs' where it is not).
+    pub coarser: f64,
 }
 
 /// A domain's boundary made ready for a run: discretised, the cutting

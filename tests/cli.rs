@@ -618,6 +618,26 @@ fn stats_say_where_the_time_goes() {
     for phase in ["prepare", "recursion", "smoothing", "check"] {
         assert!(err.contains(&format!("{phase} ")), "no {phase} in {err}");
     }
+    // its mesh has no more elements than its area asks for
+    assert!(!err.contains("coarser pass"), "{err}");
+    // a 9.5-degree spike's has: the coarser pass's meshes have a line
+    // of their own, not "the rest"
+    let spike = tmp("stats-spike.json");
+    std::fs::write(
+        &spike,
+        r#"{"name": "spike", "size": 1, "outer": {"points": [[0,0],[6,0],[6,1.0]]}}"#,
+    )
+    .unwrap();
+    let o = freemesh(&[
+        "mesh",
+        spike.to_str().unwrap(),
+        "--stats",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("spike: coarser pass "), "{err}");
 }
 
 #[test]

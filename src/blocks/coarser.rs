@@ -16,12 +16,14 @@ use crate::pipeline::{Error, MeshResult, Options};
 use crate::report::trace::By;
 
 /// The uniform run's mesh, or a coarser one of the same domain where it
-/// has many more elements than its area asks for.
+/// has many more elements than its area asks for (`first_run`: the
+/// uniform run's time, for `Phases::coarser`).
 pub(super) fn coarser_when_over(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     opts: &Options,
     run: UniformRun,
+    first_run: f64,
 ) -> Result<MeshResult, Error> {
     let UniformRun {
         result: r,
@@ -49,7 +51,10 @@ pub(super) fn coarser_when_over(
     )];
     let user_files = kb.user_files().to_vec();
     let mut kept = (Score::of(&r, &settings, domain), r, None);
+    // the runs' times: all of them, and the kept one's
+    let (mut all_runs, mut kept_run) = (first_run, first_run);
     for (variant, bounds, _) in &variants {
+        let started = std::time::Instant::now();
         let words = bound_words(bounds);
         // a second engine with the same bounds where the first run had
         // one (it makes the finest layout while this one makes the others)
@@ -72,6 +77,8 @@ pub(super) fn coarser_when_over(
             },
             &mut |_| {},
         );
+        let this_run = started.elapsed().as_secs_f64();
+        all_runs += this_run;
         let c = match run {
             Ok(c) => c.result,
             Err(e) => {
@@ -100,9 +107,11 @@ pub(super) fn coarser_when_over(
         }
         if nearer || as_near {
             kept = (s, c, Some(variant.clone()));
+            kept_run = this_run;
         }
     }
-    let (_, r, variant) = kept;
+    let (_, mut r, variant) = kept;
+    r.phases.coarser = all_runs - kept_run;
     Ok(tell_first(r, variant.as_deref(), said))
 }
 

@@ -98,8 +98,10 @@ pub fn mesh_free_then_blocks(
     opts: &Options,
     progress: &mut dyn FnMut(usize),
 ) -> Result<MeshResult, Error> {
+    let started = std::time::Instant::now();
     let run = mesh_uniform_run(domain, boundary, kb, opts, Retries::Tried, progress)?;
-    coarser::coarser_when_over(domain, kb, opts, run)
+    let first_run = started.elapsed().as_secs_f64();
+    coarser::coarser_when_over(domain, kb, opts, run, first_run)
 }
 
 /// What `mesh_uniform_run` made, with the settings it went by and
