@@ -154,7 +154,8 @@ fn mesh_uniform_run(
         prepared,
         &settings,
         graded,
-        (retries, &mut retried),
+        retries,
+        &mut retried,
         started,
         kb_before,
         kb,
@@ -178,7 +179,8 @@ fn choose_uniform_mesh(
     mut prepared: crate::pipeline::PreparedRun,
     settings: &crate::settings::Settings,
     graded: bool,
-    (retries, retried): (Retries, &mut bool),
+    retries: Retries,
+    retried: &mut bool,
     started: std::time::Instant,
     kb_before: crate::kb::KbStats,
     kb: &mut KnowledgeBase,
@@ -240,12 +242,12 @@ fn choose_uniform_mesh(
     let mut best = best.filter(|(b, _, _)| *b < score);
     let mut retries_time = 0.0;
     let mut retry_kept = false;
-    if best.as_ref().map_or(score, |b| b.0).outside > 0 {
+    // (a coarser run leaves them to the first run: the coarser pass's
+    // own line says so)
+    if retries == Retries::Tried && best.as_ref().map_or(score, |b| b.0).outside > 0 {
         let sharpest = sharpest_input_corner(&free.mesh, domain);
         let retry_above = settings.host.retry_sharpest_corner;
-        if retries == Retries::LeftToTheFirstRun {
-            tried.push("no retries: the first run made them (a retry's engine has the user's files and its own bounds, the same in both runs)".into());
-        } else if sharpest < retry_above {
+        if sharpest < retry_above {
             tried.push(format!(
                 "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
             ));
