@@ -82,6 +82,11 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   into it before the open loops are meshed by triangles.
 % fallback_spacing: the spacing of those triangles' interior points, in
 %   element sizes (each triangle is split into three quads).
+% fallback_pairs: before that, the open loop is triangulated with interior
+%   points this many element sizes apart and its triangles paired into
+%   quads across their shared edges, where every triangle finds a pair:
+%   no node is put on the loop's edges, so the rules' elements round it
+%   are not split along their rows (0: never paired).
 % ring_corner_give: a ring closing a stuck loop may have a smallest
 %   corner this many deg below the best ring's, for sizes within
 %   max_size_jump of its neighbours (tiny elements amid large ones are
@@ -221,6 +226,7 @@ bound(relation_reach, 1).
 bound(centre_search_below, 30).
 bound(fallback_take_back, 0.25).
 bound(fallback_spacing, 1.5).
+bound(fallback_pairs, 1).
 bound(ring_corner_give, 10).
 bound(thin_wall, 2).
 bound(size_growth, 0.6).

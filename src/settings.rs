@@ -232,6 +232,10 @@ pub struct HostBounds {
     /// `fallback_spacing`: the spacing of the interior points of the open
     /// loops' triangles, in element sizes.
     pub fallback_spacing: f64,
+    /// `fallback_pairs`: the spacing, in element sizes, of the interior
+    /// points of an open loop's triangles when they are paired into quads
+    /// (fallback/pairs.rs); 0: never paired, always split in three.
+    pub fallback_pairs: f64,
     /// `ring_corner_give`: how many degrees of its smallest corner a ring
     /// (fallback/rings.rs) gives up for sizes that fit its neighbours.
     pub ring_corner_give: f64,
@@ -320,13 +324,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 29] = [
+    pub const BUILT_IN: [f64; 30] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 29] = [
+    pub const NAMES: [&'static str; 30] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -356,13 +360,14 @@ impl HostBounds {
         "out_of_bounds_step",
         "coarse_boundary_grading",
         "coarser_when_over",
+        "fallback_pairs",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 29]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over] =
+    pub fn new(v: [f64; 30]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -392,6 +397,7 @@ impl HostBounds {
             (0.0, 180.0),
             (0.0, 2.0),
             (0.0, 180.0),
+            (0.0, f64::MAX),
             (0.0, f64::MAX),
             (0.0, f64::MAX),
         ];
@@ -434,6 +440,7 @@ impl HostBounds {
             out_of_bounds_step,
             coarse_boundary_grading,
             coarser_when_over,
+            fallback_pairs,
         })
     }
 }

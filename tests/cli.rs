@@ -790,7 +790,7 @@ fn the_binary_draws_where_the_rules_stopped_when_a_developer_asks() {
     let run = std::fs::read_to_string(&trace).unwrap();
     assert!(run.lines().count() > steps.lines().count(), "{run}");
     let last = run.lines().last().unwrap_or("");
-    assert!(last.contains("loop_triangle_split("), "{last}");
+    assert!(last.contains("loop_triangle_pairs("), "{last}");
 }
 
 #[test]

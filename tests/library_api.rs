@@ -147,6 +147,28 @@ fn an_option_out_of_range_is_a_typed_error_naming_the_option() {
     assert_eq!(e.to_string(), "size must be a positive number, got -2");
 }
 
+/// The loop the rules leave open in the spike: its triangles paired into
+/// quads (fallback/pairs.rs) leave fewer elements than splitting each in
+/// three, which halves every loop edge and the rows across from them.
+#[test]
+fn an_open_loop_closed_by_pairs_has_fewer_elements_than_one_split_in_three() {
+    let domain = Domain::from_file("tests/stuck/spike.json").unwrap();
+    let mut paired = KnowledgeBase::builtin().unwrap();
+    let mut split = KnowledgeBase::builtin().unwrap();
+    split.consult_file("tests/kb/no-triangle-pairs.pl").unwrap();
+    let a = mesh_domain(&domain, &mut paired, &Options::default(), &mut |_| {}).unwrap();
+    let b = mesh_domain(&domain, &mut split, &Options::default(), &mut |_| {}).unwrap();
+    let last = |r: &freemesh::MeshResult| r.trace.last().unwrap().action.clone();
+    assert!(last(&a).starts_with("loop_triangle_pairs("), "{}", last(&a));
+    assert!(last(&b).starts_with("loop_triangle_split("), "{}", last(&b));
+    assert!(
+        a.mesh.quads().len() < b.mesh.quads().len(),
+        "{} paired, {} split",
+        a.mesh.quads().len(),
+        b.mesh.quads().len()
+    );
+}
+
 #[test]
 fn a_run_the_rules_cannot_finish_hands_back_where_it_stopped() {
     let domain = Domain::from_file("tests/stuck/spike.json").unwrap();
@@ -170,7 +192,7 @@ fn a_run_the_rules_cannot_finish_hands_back_where_it_stopped() {
     let last = result.trace.last().unwrap();
     assert_eq!(last.feature, "stuck");
     assert!(
-        last.action.starts_with("loop_triangle_split("),
+        last.action.starts_with("loop_triangle_pairs("),
         "{}",
         last.action
     );

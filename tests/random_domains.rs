@@ -943,6 +943,52 @@ fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
     assert_sound(&coarser.mesh, &domain, "seed 214");
 }
 
+/// A slot (random seed 437) with a small hole and an inner line near its
+/// middle, where the rules leave a loop open: its triangles paired into
+/// quads leave the rows along the slot whole, where splitting every
+/// triangle in three halved every loop edge and split the rows along
+/// the slot's whole length (533 quads where the area asks for 153).
+#[test]
+fn a_loop_left_open_in_a_slot_is_closed_without_splitting_the_slot() {
+    let text = std::fs::read_to_string("tests/stuck/slot-with-a-hole.json").expect("the file");
+    let domain = Domain::from_json(&serde_json::from_str(&text).expect("JSON")).expect("valid");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let paired = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
+    let mut off = KnowledgeBase::builtin().expect("the built-in KB loads");
+    off.consult_file("tests/kb/no-triangle-pairs.pl")
+        .expect("consulted");
+    let split = mesh_free_then_blocks(&domain, None, &mut off, &opts, &mut |_| {}).expect("meshed");
+    let closing = |r: &freemesh::MeshResult| {
+        r.trace
+            .iter()
+            .rev()
+            .find(|t| t.feature == "stuck")
+            .map(|t| t.action.clone())
+            .unwrap_or_default()
+    };
+    assert!(
+        closing(&paired).starts_with("loop_triangle_pairs("),
+        "{}",
+        closing(&paired)
+    );
+    assert!(
+        closing(&split).starts_with("loop_triangle_split("),
+        "{}",
+        closing(&split)
+    );
+    let (n, m) = (paired.mesh.quads().len(), split.mesh.quads().len());
+    assert!(n * 4 < m * 3, "{n} paired against {m} split");
+    assert!(
+        paired.stats.chord_split_elements * 2 < split.stats.chord_split_elements,
+        "{} split along their rows against {}",
+        paired.stats.chord_split_elements,
+        split.stats.chord_split_elements
+    );
+    assert!(within_bounds(&paired.quality, 45.0), "{:?}", paired.quality);
+    assert_sound(&paired.mesh, &domain, "seed 437");
+}
+
 /// What is meshed once is not meshed again: a retry whose free mesh is
 /// the first run's (its bounds changed nothing there) is not tried in
 /// blocks, and the coarser run leaves the retries to the first run,

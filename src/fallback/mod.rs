@@ -4,6 +4,7 @@
 //! triangles split into quads.
 
 pub mod chords;
+mod pairs;
 pub mod rings;
 pub mod slits;
 pub mod stuck_loops;

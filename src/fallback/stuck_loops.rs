@@ -14,14 +14,25 @@
 
 use glam::DVec2;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
+use super::pairs;
 use super::triangles::{
     inside_triangles, lattice_points, place_centre, project_on_chain, split_in_three, FallbackError,
 };
 use crate::geometry::{segments_intersect, SegmentRelation};
 use crate::input::domain::Domain;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
+
+/// How far apart the interior points of an open loop's triangles are:
+/// `pairs` where they are paired into quads (tried first; in lengths of
+/// the loop's edges, their mean; 0: never), `split` where each is split
+/// in three (a length).
+#[derive(Clone, Copy, Debug)]
+pub struct Spacing {
+    pub pairs: f64,
+    pub split: f64,
+}
 
 /// The mesh with its open loops closed, and what it took.
 pub struct LoopsClosed {
@@ -33,9 +44,11 @@ pub struct LoopsClosed {
     pub split_elements: usize,
     /// Rules' elements taken back (after a runaway).
     pub taken_back: usize,
+    /// The loops' triangles were paired into quads (no element split).
+    pub paired: bool,
 }
 
-fn key(a: u32, b: u32) -> (u32, u32) {
+pub(super) fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
@@ -75,7 +88,7 @@ pub fn close_open_loops(
     mesh: &Mesh,
     loops: &[Vec<u32>],
     domain: &Domain,
-    spacing: f64,
+    spacing: Spacing,
     take_back: Option<f64>,
 ) -> Result<LoopsClosed, FallbackError> {
     // The open region's edges, directed with the region on their left.
@@ -111,7 +124,7 @@ pub fn reopen_lost_segment(
     lost: &[(u32, u32)],
     rings: usize,
     domain: &Domain,
-    spacing: f64,
+    spacing: Spacing,
 ) -> Result<LoopsClosed, FallbackError> {
     let mut out = mesh.clone();
     let on_curve = on_curve(&out);
@@ -163,17 +176,21 @@ fn on_curve(mesh: &Mesh) -> HashMap<(u32, u32), u32> {
 }
 
 /// Meshes the open region of `directed` (the region on their left) in
-/// `out` by triangles split into quads (see `close_open_loops`).
+/// `out`: triangulated, its triangles paired into quads where they pair
+/// up (fallback/pairs.rs), and the triangles left over split into three
+/// quads each, the halving of their edges carried along the chords of
+/// the quads round them, the loop's and the rules' (see
+/// `close_open_loops`). Where every triangle is paired no element is
+/// split; where none is, every loop edge is halved.
 fn close_region(
     mut out: Mesh,
     directed: Vec<(u32, u32)>,
     on_curve: &HashMap<(u32, u32), u32>,
     domain: &Domain,
-    spacing: f64,
+    spacing: Spacing,
     taken: usize,
 ) -> Result<LoopsClosed, FallbackError> {
     let chains: Vec<&crate::input::domain::Chain> = domain.chains().collect();
-    let rule_quads = std::mem::take(&mut out.quads);
     // The region's edges: an edge met once bounds the open region; met
     // twice (both sides of a line, a slit) it lies inside it.
     let mut loop_edges: Vec<(u32, u32)> = Vec::new();
@@ -190,34 +207,26 @@ fn close_region(
         return Err(FallbackError("no open loop".into()));
     }
 
-    // The halving, carried along the chords of the rules' elements.
-    let mut quads_of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
-    for (qi, q) in rule_quads.iter().enumerate() {
-        for i in 0..4 {
-            quads_of
-                .entry(key(q[i], q[(i + 1) % 4]))
-                .or_default()
-                .push((qi, i));
-        }
+    let region = pairs::pair_region(&out.nodes, &out.quads, &loop_edges, &times, spacing)?;
+    // the lattice points become mesh nodes
+    let mut ids = region.ids;
+    for &p in &region.points[ids.len()..] {
+        ids.push(out.add_node(p, NodeKind::Interior));
     }
-    let mut halved: Vec<(u32, u32)> = loop_edges.clone();
-    let mut is_halved: HashMap<(u32, u32), u32> = HashMap::new();
-    for &k in &loop_edges {
-        is_halved.insert(k, u32::MAX);
-    }
-    let mut next = 0;
-    while next < halved.len() {
-        let k = halved[next];
-        next += 1;
-        for &(qi, i) in quads_of.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
-            let q = rule_quads[qi];
-            let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
-            if let std::collections::hash_map::Entry::Vacant(v) = is_halved.entry(opposite) {
-                v.insert(u32::MAX);
-                halved.push(opposite);
-            }
-        }
-    }
+    let paired = region.pairs.len();
+    let mut all_quads = std::mem::take(&mut out.quads);
+    let rule_count = all_quads.len();
+    all_quads.extend(region.pairs.iter().map(|q| q.map(|n| ids[n as usize])));
+    let triangles: Vec<[u32; 3]> = region
+        .left_over
+        .iter()
+        .map(|t| t.map(|n| ids[n as usize]))
+        .collect();
+
+    // The halving: every edge of a triangle left over, carried along the
+    // chords of the quads.
+    let halved = halving(&all_quads, &triangles);
+    let mut is_halved: HashMap<(u32, u32), u32> = halved.iter().map(|&k| (k, u32::MAX)).collect();
     for &k in &halved {
         let m = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
         let id = match on_curve.get(&k) {
@@ -227,11 +236,13 @@ fn close_region(
         is_halved.insert(k, id);
     }
 
-    // The rules' elements, split where their edges are halved.
+    // The quads, split where their edges are halved.
     let mid = |a: u32, b: u32| is_halved.get(&key(a, b)).copied();
-    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(rule_quads.len() + 4 * halved.len());
+    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(all_quads.len() + 4 * halved.len());
     let mut split_elements = 0;
-    for &q in &rule_quads {
+    let mut loop_elements = 0;
+    for (qi, &q) in all_quads.iter().enumerate() {
+        let before = quads.len();
         let [a, b, c, d] = q;
         match (mid(a, b), mid(b, c)) {
             (None, None) => quads.push(q),
@@ -239,13 +250,11 @@ fn close_region(
                 let mcd = mid(c, d).ok_or_else(|| FallbackError("a chord broke off".into()))?;
                 quads.push([a, mab, mcd, d]);
                 quads.push([mab, b, c, mcd]);
-                split_elements += 1;
             }
             (None, Some(mbc)) => {
                 let mda = mid(d, a).ok_or_else(|| FallbackError("a chord broke off".into()))?;
                 quads.push([a, b, mbc, mda]);
                 quads.push([mda, mbc, c, d]);
-                split_elements += 1;
             }
             (Some(mab), Some(mbc)) => {
                 let (mcd, mda) = match (mid(c, d), mid(d, a)) {
@@ -262,21 +271,122 @@ fn close_region(
                 quads.push([mab, b, mbc, g]);
                 quads.push([g, mbc, c, mcd]);
                 quads.push([mda, g, mcd, d]);
-                split_elements += 1;
             }
+        }
+        if qi < rule_count {
+            split_elements += usize::from(quads.len() - before > 1);
+        } else {
+            loop_elements += quads.len() - before;
         }
     }
     out.quads = quads;
-    let rules_quads = out.quads.len();
     pull_back_curved_midpoints(&mut out, &halved, &is_halved, on_curve);
 
+    // Each triangle left over split into three quads by its edges'
+    // midpoints.
+    for [a, b, c] in triangles {
+        let mids = [(a, b), (b, c), (c, a)].map(|(x, y)| is_halved[&key(x, y)]);
+        let (g, three) = split_in_three(&mut out, [a, b, c], mids);
+        let centre = out.nodes[g as usize];
+        let convex = three
+            .iter()
+            .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)));
+        if !convex && !place_centre(&mut out, [a, b, c], g, three) {
+            return Err(FallbackError(format!(
+                "no centre makes the quads of the triangle at ({:.6}, {:.6}) convex",
+                centre.x, centre.y
+            )));
+        }
+        loop_elements += 3;
+    }
+
+    // the halved boundary edges, each now two
+    let mut boundary = Vec::with_capacity(out.boundary.len() + halved.len());
+    for e in &out.boundary {
+        match is_halved.get(&key(e.a, e.b)) {
+            Some(&m) => {
+                boundary.push(BoundaryEdge { b: m, ..*e });
+                boundary.push(BoundaryEdge { a: m, ..*e });
+            }
+            None => boundary.push(*e),
+        }
+    }
+    out.boundary = boundary;
+    Ok(LoopsClosed {
+        mesh: out,
+        loop_elements,
+        split_elements,
+        taken_back: taken,
+        paired: paired > 0,
+    })
+}
+
+/// The edges halved where `triangles` are split in three: theirs, and
+/// the edges across from those in `quads`, along each chord until it
+/// meets the boundary or a halved edge.
+pub(super) fn halving(quads: &[[u32; 4]], triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let mut quads_of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
+    for (qi, q) in quads.iter().enumerate() {
+        for i in 0..4 {
+            quads_of
+                .entry(key(q[i], q[(i + 1) % 4]))
+                .or_default()
+                .push((qi, i));
+        }
+    }
+    let mut halved: Vec<(u32, u32)> = Vec::new();
+    let mut seen: HashSet<(u32, u32)> = HashSet::new();
+    for t in triangles {
+        for i in 0..3 {
+            let k = key(t[i], t[(i + 1) % 3]);
+            if seen.insert(k) {
+                halved.push(k);
+            }
+        }
+    }
+    let mut next = 0;
+    while next < halved.len() {
+        let k = halved[next];
+        next += 1;
+        for &(qi, i) in quads_of.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
+            let q = quads[qi];
+            let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
+            if seen.insert(opposite) {
+                halved.push(opposite);
+            }
+        }
+    }
+    halved
+}
+
+/// An open region's triangulation: its points (the loop's nodes first,
+/// `ids` their mesh ids; then the lattice's), and its triangles,
+/// counter-clockwise, as indices into the points.
+pub(super) struct Triangulated {
+    pub points: Vec<DVec2>,
+    pub ids: Vec<u32>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The open region triangulated: its nodes (the loop's, then interior
+/// points on a lattice of `spacing`) with their mesh ids for the loop's
+/// (the lattice's get theirs when they are kept), and the triangles
+/// inside it, counter-clockwise, as indices into those points. The
+/// region's edges are constraints: met once they bound it, twice (both
+/// sides of a line, a slit) they lie inside it.
+pub(super) fn triangulate_region(
+    nodes: &[DVec2],
+    loop_edges: &[(u32, u32)],
+    times: &HashMap<(u32, u32), u32>,
+    spacing: f64,
+) -> Result<Triangulated, FallbackError> {
     // The open region: its nodes in a compact numbering for the
     // triangulation, its edges the constraints (group 0 bounds it,
     // group 1 lies inside it).
     let mut ids: Vec<u32> = Vec::new();
     let mut compact: HashMap<u32, u32> = HashMap::new();
     let mut region_edges: Vec<BoundaryEdge> = Vec::with_capacity(loop_edges.len());
-    for &(a, b) in &loop_edges {
+    for &(a, b) in loop_edges {
         let mut id = |n: u32| {
             *compact.entry(n).or_insert_with(|| {
                 ids.push(n);
@@ -291,7 +401,7 @@ fn close_region(
             tag: None,
         });
     }
-    let mut points: Vec<DVec2> = ids.iter().map(|&n| out.nodes[n as usize]).collect();
+    let mut points: Vec<DVec2> = ids.iter().map(|&n| nodes[n as usize]).collect();
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handle_node = HashMap::new();
     let mut handles = Vec::with_capacity(points.len());
@@ -326,58 +436,10 @@ fn close_region(
         }
     }
     let triangles = inside_triangles(&cdt, &handle_node, &region_edges, 1)?;
-    // the lattice points become mesh nodes
-    for &p in &points[ids.len()..] {
-        ids.push(out.add_node(p, NodeKind::Interior));
-    }
-
-    // Each triangle split into three quads; its edges' midpoints shared
-    // with the neighbours (on a loop edge, the halving's node).
-    let mut new_mid: HashMap<(u32, u32), u32> = HashMap::new();
-    for [a, b, c] in triangles {
-        let [a, b, c] = [a, b, c].map(|n| ids[n as usize]);
-        let mut m = |out: &mut Mesh, x: u32, y: u32| -> u32 {
-            let k = key(x, y);
-            match is_halved.get(&k) {
-                Some(&n) if times.contains_key(&k) => n,
-                _ => *new_mid.entry(k).or_insert_with(|| {
-                    let p = (out.nodes[x as usize] + out.nodes[y as usize]) / 2.0;
-                    out.add_node(p, NodeKind::Interior)
-                }),
-            }
-        };
-        let mids = [m(&mut out, a, b), m(&mut out, b, c), m(&mut out, c, a)];
-        let (g, three) = split_in_three(&mut out, [a, b, c], mids);
-        let centre = out.nodes[g as usize];
-        let convex = three
-            .iter()
-            .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)));
-        if !convex && !place_centre(&mut out, [a, b, c], g, three) {
-            return Err(FallbackError(format!(
-                "no centre makes the quads of the triangle at ({:.6}, {:.6}) convex",
-                centre.x, centre.y
-            )));
-        }
-    }
-    let loop_elements = out.quads.len() - rules_quads;
-
-    // the halved boundary edges, each now two
-    let mut boundary = Vec::with_capacity(out.boundary.len() + halved.len());
-    for e in &out.boundary {
-        match is_halved.get(&key(e.a, e.b)) {
-            Some(&m) => {
-                boundary.push(BoundaryEdge { b: m, ..*e });
-                boundary.push(BoundaryEdge { a: m, ..*e });
-            }
-            None => boundary.push(*e),
-        }
-    }
-    out.boundary = boundary;
-    Ok(LoopsClosed {
-        mesh: out,
-        loop_elements,
-        split_elements,
-        taken_back: taken,
+    Ok(Triangulated {
+        points,
+        ids,
+        triangles,
     })
 }
 
@@ -512,14 +574,26 @@ mod tests {
     use super::*;
     use crate::input::boundary::discretise;
 
+    /// Triangles split in three only (the halving's tests).
+    const SPLIT: Spacing = Spacing {
+        pairs: 0.0,
+        split: 1.0,
+    };
+
     /// A 3 by 3 square meshed by the rules but for its middle cell.
     fn ring_round_open_cell() -> (Mesh, Domain, Vec<u32>) {
-        let domain = Domain::from_json_str(
-            r#"{"name": "sq", "size": 1, "outer": {"points": [[0,0],[3,0],[3,3],[0,3]]}}"#,
-        )
+        ring_round_open_block(3, 1)
+    }
+
+    /// An n by n square of unit cells meshed by the rules but for the
+    /// block of cells from (m, m) to (n - m, n - m), the open loop.
+    fn ring_round_open_block(n: usize, m: usize) -> (Mesh, Domain, Vec<u32>) {
+        let domain = Domain::from_json_str(&format!(
+            r#"{{"name": "sq", "size": 1, "outer": {{"points": [[0,0],[{n},0],[{n},{n}],[0,{n}]]}}}}"#
+        ))
         .unwrap();
         let mut mesh = discretise(&domain, 1.0, 0.0, 2.0).unwrap().mesh;
-        assert_eq!(mesh.nodes.len(), 12);
+        assert_eq!(mesh.nodes.len(), 4 * n);
         let mut at = |x: f64, y: f64| -> u32 {
             let p = DVec2::new(x, y);
             match mesh.nodes.iter().position(|&n| (n - p).length() < 1e-9) {
@@ -528,8 +602,9 @@ mod tests {
             }
         };
         let mut quads = Vec::new();
-        for j in 0..3 {
-            for i in 0..3 {
+        let open = |i: usize| i >= m && i < n - m;
+        for j in 0..n {
+            for i in 0..n {
                 let (x, y) = (i as f64, j as f64);
                 let q = [
                     at(x, y),
@@ -537,20 +612,86 @@ mod tests {
                     at(x + 1.0, y + 1.0),
                     at(x, y + 1.0),
                 ];
-                if (i, j) != (1, 1) {
+                if !(open(i) && open(j)) {
                     quads.push(q);
                 }
             }
         }
-        let open = vec![at(1.0, 1.0), at(2.0, 1.0), at(2.0, 2.0), at(1.0, 2.0)];
+        // the open block's outline, counter-clockwise
+        let (lo, hi) = (m as f64, (n - m) as f64);
+        let mut outline = Vec::new();
+        let k = n - 2 * m;
+        for t in 0..k {
+            outline.push(at(lo + t as f64, lo));
+        }
+        for t in 0..k {
+            outline.push(at(hi, lo + t as f64));
+        }
+        for t in 0..k {
+            outline.push(at(hi - t as f64, hi));
+        }
+        for t in 0..k {
+            outline.push(at(lo, hi - t as f64));
+        }
         mesh.quads = quads;
-        (mesh, domain, open)
+        (mesh, domain, outline)
+    }
+
+    /// Conforming: every element edge has at most one element each side;
+    /// the edges with none on one side are returned.
+    fn outline_edges(m: &Mesh) -> usize {
+        let mut sides: HashMap<(u32, u32), usize> = HashMap::new();
+        for q in &m.quads {
+            for i in 0..4 {
+                *sides.entry((q[i], q[(i + 1) % 4])).or_insert(0) += 1;
+            }
+        }
+        assert!(sides.values().all(|&n| n == 1));
+        sides
+            .keys()
+            .filter(|&&(a, b)| !sides.contains_key(&(b, a)))
+            .count()
+    }
+
+    fn area(m: &Mesh) -> f64 {
+        (0..m.quads.len())
+            .map(|q| {
+                let p = m.quad_points(q);
+                0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
+            })
+            .sum()
+    }
+
+    #[test]
+    fn an_open_block_is_closed_by_pairs_and_no_element_round_it_is_split() {
+        let (mesh, domain, open) = ring_round_open_block(6, 1);
+        let spacing = Spacing {
+            pairs: 1.0,
+            split: 1.5,
+        };
+        let closed = close_open_loops(&mesh, &[open], &domain, spacing, None).unwrap();
+        assert!(closed.paired);
+        assert_eq!(closed.split_elements, 0);
+        let m = &closed.mesh;
+        // the rules' 20 elements as they were, the 4 by 4 block paired
+        assert_eq!(m.quads.len(), 20 + closed.loop_elements);
+        assert_eq!(&m.quads[..20], &mesh.quads[..]);
+        assert_eq!(m.boundary.len(), 24, "no boundary segment halved");
+        assert_eq!(outline_edges(m), 24);
+        assert!((area(m) - 36.0).abs() < 1e-9, "area {}", area(m));
+        assert!((0..m.quads.len()).all(|q| crate::geometry::quad_is_convex(m.quad_points(q))));
+        // about one element a unit of area: the block is 16
+        assert!(
+            (10..=24).contains(&closed.loop_elements),
+            "{}",
+            closed.loop_elements
+        );
     }
 
     #[test]
     fn an_open_cell_is_closed_and_its_halving_carried_to_the_boundary() {
         let (mesh, domain, open) = ring_round_open_cell();
-        let closed = close_open_loops(&mesh, &[open], &domain, 1.0, None).unwrap();
+        let closed = close_open_loops(&mesh, &[open], &domain, SPLIT, None).unwrap();
         // the four rows across the cell's edges split; the corners not
         assert_eq!(closed.split_elements, 4);
         // the cell: two triangles, three quads each
@@ -559,39 +700,28 @@ mod tests {
         assert_eq!(m.quads.len(), 4 + 8 + 6);
         // four boundary segments halved, each now two
         assert_eq!(m.boundary.len(), 16);
-        let area: f64 = (0..m.quads.len())
-            .map(|q| {
-                let p = m.quad_points(q);
-                0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
-            })
-            .sum();
-        assert!((area - 9.0).abs() < 1e-9, "area {area}");
+        assert!((area(m) - 9.0).abs() < 1e-9, "area {}", area(m));
         assert!((0..m.quads.len()).all(|q| crate::geometry::quad_is_convex(m.quad_points(q))));
-        // conforming: every element edge has at most one element each side
-        let mut sides: HashMap<(u32, u32), usize> = HashMap::new();
-        for q in &m.quads {
-            for i in 0..4 {
-                *sides.entry((q[i], q[(i + 1) % 4])).or_insert(0) += 1;
-            }
-        }
-        assert!(sides.values().all(|&n| n == 1));
-        let boundary: usize = sides
-            .keys()
-            .filter(|&&(a, b)| !sides.contains_key(&(b, a)))
-            .count();
-        assert_eq!(boundary, 16, "the outline's edges only");
+        assert_eq!(outline_edges(m), 16, "the outline's edges only");
     }
 
     #[test]
     fn small_elements_by_the_open_loop_are_taken_back() {
         let (mesh, domain, open) = ring_round_open_cell();
         // every element is 1 by 1: under an area of 1.5 all are taken
-        let closed = close_open_loops(&mesh, &[open.clone()], &domain, 1.0, Some(1.5)).unwrap();
+        let closed = close_open_loops(
+            &mesh,
+            std::slice::from_ref(&open),
+            &domain,
+            SPLIT,
+            Some(1.5),
+        )
+        .unwrap();
         assert_eq!(closed.taken_back, 8);
         assert_eq!(closed.split_elements, 0);
         assert_eq!(closed.mesh.quads.len(), closed.loop_elements);
         // under an area of 0.5 none is
-        let kept = close_open_loops(&mesh, &[open], &domain, 1.0, Some(0.5)).unwrap();
+        let kept = close_open_loops(&mesh, &[open], &domain, SPLIT, Some(0.5)).unwrap();
         assert_eq!(kept.taken_back, 0);
         assert_eq!(kept.split_elements, 4);
     }

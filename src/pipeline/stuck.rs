@@ -14,7 +14,7 @@ use crate::report::trace::{By, TraceStep};
 impl Run<'_> {
     /// Where the rules' elements lost boundary or line segments: the
     /// elements round them taken back and the region meshed by triangles
-    /// split into quads, the segments in it (see
+    /// (see `close_regions`), the segments in it (see
     /// `fallback::stuck_loops::reopen_lost_segment`), the rest of the
     /// rules' mesh kept. Each way the segments may lie in the region is
     /// tried (inside it, or bounding it either way round); None when no
@@ -25,17 +25,37 @@ impl Run<'_> {
         reason: &str,
         stopped_short: &StoppedShort,
     ) -> Result<Option<MeshResult>, Error> {
-        match self.mend_lost(self.mesher.mesh(), lost) {
-            Some(closed) => self.finish_closed(closed, 1, reason, stopped_short),
-            None => Ok(None),
+        let spacing = self.spacing(self.size);
+        let outcome = self.mesher.take_outcome();
+        self.close_regions(
+            outcome,
+            1,
+            spacing,
+            reason,
+            stopped_short,
+            |run, mesh, spacing| run.mend_lost(mesh, lost, spacing),
+        )
+    }
+
+    /// The spacings of the open loops' triangles (bound(fallback_pairs)
+    /// and bound(fallback_spacing) sizes of `size`).
+    fn spacing(&self, size: f64) -> stuck_loops::Spacing {
+        let host = self.mesher.settings().host;
+        stuck_loops::Spacing {
+            pairs: host.fallback_pairs,
+            split: host.fallback_spacing * size,
         }
     }
 
     /// `mesh` with its `lost` segments mended (see `reopen_lost_segments`),
     /// checked; None when no way passes the check.
-    fn mend_lost(&self, mesh: &Mesh, lost: &[(u32, u32)]) -> Option<LoopsClosed> {
+    fn mend_lost(
+        &self,
+        mesh: &Mesh,
+        lost: &[(u32, u32)],
+        spacing: stuck_loops::Spacing,
+    ) -> Option<LoopsClosed> {
         let host = self.mesher.settings().host;
-        let spacing = host.fallback_spacing * self.size;
         // bound(fallback_reopen_rings, K): how far round the segments
         let rings = host.fallback_reopen_rings as usize;
         let holes = self.domain.holes.len() as u32;
@@ -54,9 +74,9 @@ impl Run<'_> {
     }
 
     /// Where the recursion stopped short: the loops left open meshed by
-    /// triangles split into quads, the rules' elements kept (see
-    /// fallback/stuck_loops.rs). None when that fails or its mesh fails
-    /// the check: the last resort then meshes the whole domain.
+    /// triangles (see `close_regions`), the rules'
+    /// elements kept. None when that fails or its mesh fails the check:
+    /// the last resort then meshes the whole domain.
     pub(super) fn close_open_loops(
         &mut self,
         reason: &str,
@@ -67,45 +87,97 @@ impl Run<'_> {
             // the rules closed every loop (their mesh failed its check)
             return Ok(None);
         }
-        let host = self.mesher.settings().host;
-        let closed = match stuck_loops::close_open_loops(
+        let size = stuck_loops::open_loop_size(
             self.mesher.mesh(),
             &loops,
-            &self.domain,
-            host.fallback_spacing
-                * stuck_loops::open_loop_size(
-                    self.mesher.mesh(),
-                    &loops,
-                    self.size,
-                    self.mesher.is_graded(),
-                ),
-            Some(host.fallback_take_back * self.size * self.size),
-        ) {
-            Ok(c) => c,
-            Err(_) => return Ok(None),
+            self.size,
+            self.mesher.is_graded(),
+        );
+        let spacing = self.spacing(size);
+        let outcome = self.mesher.take_outcome();
+        let count = loops.len();
+        self.close_regions(
+            outcome,
+            count,
+            spacing,
+            reason,
+            stopped_short,
+            |run, mesh, spacing| run.closed_loops(mesh, &loops, spacing),
+        )
+    }
+
+    /// The rules' `outcome` with its open regions closed by `close` at
+    /// `spacing` (`loops` of them): their triangles paired into quads,
+    /// those left over split in three (fallback/pairs.rs). Where that
+    /// closing cannot be made or its mesh fails the check, the regions are
+    /// closed with every triangle split in three (no pairs, as with
+    /// `bound(fallback_pairs, 0)`). None when neither closes them and
+    /// passes the check.
+    fn close_regions(
+        &mut self,
+        outcome: Outcome,
+        loops: usize,
+        spacing: stuck_loops::Spacing,
+        reason: &str,
+        stopped_short: &StoppedShort,
+        close: impl Fn(&Self, &Mesh, stuck_loops::Spacing) -> Option<LoopsClosed>,
+    ) -> Result<Option<MeshResult>, Error> {
+        if spacing.pairs > 0.0 {
+            if let Some(closed) = close(self, &outcome.mesh, spacing) {
+                let paired =
+                    self.finish_closed(outcome.clone(), closed, loops, reason, stopped_short)?;
+                if paired.is_some() {
+                    return Ok(paired);
+                }
+            }
+        }
+        let split = stuck_loops::Spacing {
+            pairs: 0.0,
+            ..spacing
         };
+        match close(self, &outcome.mesh, split) {
+            Some(closed) => self.finish_closed(outcome, closed, loops, reason, stopped_short),
+            None => Ok(None),
+        }
+    }
+
+    /// The open `loops` of the rules' `mesh` closed at `spacing`, the
+    /// segments the closing lost mended; None where either fails.
+    fn closed_loops(
+        &self,
+        mesh: &Mesh,
+        loops: &[Vec<u32>],
+        spacing: stuck_loops::Spacing,
+    ) -> Option<LoopsClosed> {
+        let host = self.mesher.settings().host;
+        let closed = stuck_loops::close_open_loops(
+            mesh,
+            loops,
+            &self.domain,
+            spacing,
+            Some(host.fallback_take_back * self.size * self.size),
+        )
+        .ok()?;
         // the closing may lose a segment in its turn: mended the same way
         let lost = check::lost_segments(&closed.mesh);
-        let closed = if lost.is_empty() {
-            closed
-        } else {
-            let Some(mended) = self.mend_lost(&closed.mesh, &lost) else {
-                return Ok(None);
-            };
-            LoopsClosed {
-                loop_elements: closed.loop_elements + mended.loop_elements,
-                split_elements: closed.split_elements + mended.split_elements,
-                taken_back: closed.taken_back + mended.taken_back,
-                mesh: mended.mesh,
-            }
-        };
-        self.finish_closed(closed, loops.len(), reason, stopped_short)
+        if lost.is_empty() {
+            return Some(closed);
+        }
+        let mended = self.mend_lost(&closed.mesh, &lost, spacing)?;
+        Some(LoopsClosed {
+            loop_elements: closed.loop_elements + mended.loop_elements,
+            split_elements: closed.split_elements + mended.split_elements,
+            taken_back: closed.taken_back + mended.taken_back,
+            paired: closed.paired || mended.paired,
+            mesh: mended.mesh,
+        })
     }
 
     /// The rules' outcome with `closed`'s mesh (`loops` regions closed by
     /// triangles), traced and finished; None if it fails its check.
     fn finish_closed(
         &mut self,
+        mut outcome: Outcome,
         closed: LoopsClosed,
         loops: usize,
         reason: &str,
@@ -114,7 +186,6 @@ impl Run<'_> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let bounds = self.mesher.settings().element;
         let kb_after = self.mesher.kb().stats;
-        let mut outcome = self.mesher.take_outcome();
         outcome.mesh = closed.mesh;
         // the halved boundary segments' nodes are on the curves: the
         // area the elements must cover is the new boundary's
@@ -130,8 +201,15 @@ impl Run<'_> {
                 angles: Default::default(),
                 feature: "stuck".into(),
                 action: format!(
-                    "loop_triangle_split({}, {}, {})",
-                    loops, closed.loop_elements, closed.split_elements
+                    "{}({}, {}, {})",
+                    if closed.paired {
+                        "loop_triangle_pairs"
+                    } else {
+                        "loop_triangle_split"
+                    },
+                    loops,
+                    closed.loop_elements,
+                    closed.split_elements
                 ),
                 by: By::Triangles,
                 redesign: vec![reason.to_string()],

@@ -98,6 +98,7 @@ impl Prepared {
 const MAX_FALLBACK_PASSES: usize = 100;
 
 /// What a finished recursion hands over.
+#[derive(Clone)]
 pub struct Outcome {
     /// The elements made.
     pub mesh: Mesh,
