@@ -22,7 +22,7 @@ use petgraph::algo::maximum_matching;
 use petgraph::graph::{NodeIndex, UnGraph};
 use std::collections::{HashMap, HashSet};
 
-use super::stuck_loops::{halving, key, triangulate_region, Spacing, Triangulated};
+use super::open_region::{halving, key, triangulate_region, Spacing, Triangulated};
 use super::triangles::FallbackError;
 use crate::geometry::{quad_angles, quad_is_convex};
 
