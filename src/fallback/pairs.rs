@@ -9,7 +9,7 @@
 //! split in two).
 //!
 //! The pairs are chosen in tiers of their quads' corners (all within 45
-//! to 135 degrees first, then wider windows, then any convex quad): the
+//! to 135 degrees first, then wider windows, at last 5 to 175): the
 //! strictest tier whose matching is as large as the widest's gives the
 //! quads, so poor pairs are used only where the good ones cannot cover
 //! as much of the loop. The triangles left over (where no perfect
@@ -26,9 +26,11 @@ use super::open_region::{halving, key, triangulate_region, Spacing, Triangulated
 use super::triangles::FallbackError;
 use crate::geometry::{quad_angles, quad_is_convex};
 
-/// The corner windows (degrees from 90) of the tiers, the last any convex
-/// quad.
-const TIERS: [f64; 4] = [45.0, 60.0, 75.0, 90.0];
+/// The corner windows (degrees from 90) of the tiers, the last any quad
+/// with corners within 5 and 175 degrees: a pair whose corner is nearly
+/// straight (three nodes of a straight input edge, as at a spike's tip)
+/// is a triangle, and boundary nodes cannot be moved to mend it.
+const TIERS: [f64; 4] = [45.0, 60.0, 75.0, 85.0];
 
 /// Two triangles sharing an edge, as the quad they make
 /// (counter-clockwise) and how far its worst corner is from 90 degrees.
