@@ -83,10 +83,11 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 % fallback_spacing: the spacing of those triangles' interior points, in
 %   element sizes (each triangle is split into three quads).
 % fallback_pairs: before that, the open loop is triangulated with interior
-%   points this many element sizes apart and its triangles paired into
-%   quads across their shared edges, where every triangle finds a pair:
-%   no node is put on the loop's edges, so the rules' elements round it
-%   are not split along their rows (0: never paired).
+%   points this many of its edges' mean length apart (and denser) and its
+%   triangles paired into quads across their shared edges: no node is put
+%   on the loop's edges, so the rules' elements round it stay whole; only
+%   the triangles left over are split in three, their rows with them
+%   (0: never paired).
 % ring_corner_give: a ring closing a stuck loop may have a smallest
 %   corner this many deg below the best ring's, for sizes within
 %   max_size_jump of its neighbours (tiny elements amid large ones are

@@ -232,9 +232,10 @@ pub struct HostBounds {
     /// `fallback_spacing`: the spacing of the interior points of the open
     /// loops' triangles, in element sizes.
     pub fallback_spacing: f64,
-    /// `fallback_pairs`: the spacing, in element sizes, of the interior
-    /// points of an open loop's triangles when they are paired into quads
-    /// (fallback/pairs.rs); 0: never paired, always split in three.
+    /// `fallback_pairs`: the spacing of the interior points of an open
+    /// loop's triangles when they are paired into quads, in lengths of
+    /// the loop's edges (their mean; fallback/pairs.rs); 0: never paired,
+    /// always split in three.
     pub fallback_pairs: f64,
     /// `ring_corner_give`: how many degrees of its smallest corner a ring
     /// (fallback/rings.rs) gives up for sizes that fit its neighbours.

@@ -24,19 +24,42 @@ pub(super) fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
-/// The edges halved where `triangles` are split in three: theirs, and
-/// the edges across from those in `quads`, along each chord until it
-/// meets the boundary or a halved edge.
-pub(super) fn halving(quads: &[[u32; 4]], triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut quads_of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
-    for (qi, q) in quads.iter().enumerate() {
-        for i in 0..4 {
-            quads_of
-                .entry(key(q[i], q[(i + 1) % 4]))
-                .or_default()
-                .push((qi, i));
+/// Quads with, for each of their edges, the quads that have it and on
+/// which side: built once for the rules' elements, read by every halving
+/// tried on an open region.
+pub(super) struct EdgeQuads<'a> {
+    pub quads: &'a [[u32; 4]],
+    of: HashMap<(u32, u32), Vec<(usize, usize)>>,
+}
+
+impl<'a> EdgeQuads<'a> {
+    pub(super) fn new(quads: &'a [[u32; 4]]) -> EdgeQuads<'a> {
+        let mut of: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
+        for (qi, q) in quads.iter().enumerate() {
+            for i in 0..4 {
+                of.entry(key(q[i], q[(i + 1) % 4]))
+                    .or_default()
+                    .push((qi, i));
+            }
         }
+        EdgeQuads { quads, of }
     }
+
+    /// The quads with edge `k`, and the side it is.
+    fn at(&self, k: (u32, u32)) -> &[(usize, usize)] {
+        self.of.get(&k).map(Vec::as_slice).unwrap_or(&[])
+    }
+}
+
+/// The edges halved where `triangles` are split in three: theirs, and
+/// the edges across from those in the `rules`' quads and the `pairs`',
+/// along each chord until it meets the boundary or a halved edge.
+pub(super) fn halving(
+    rules: &EdgeQuads,
+    pairs: &[[u32; 4]],
+    triangles: &[[u32; 3]],
+) -> Vec<(u32, u32)> {
+    let pairs = EdgeQuads::new(pairs);
     let mut halved: Vec<(u32, u32)> = Vec::new();
     let mut seen: HashSet<(u32, u32)> = HashSet::new();
     for t in triangles {
@@ -51,15 +74,38 @@ pub(super) fn halving(quads: &[[u32; 4]], triangles: &[[u32; 3]]) -> Vec<(u32, u
     while next < halved.len() {
         let k = halved[next];
         next += 1;
-        for &(qi, i) in quads_of.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
-            let q = quads[qi];
-            let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
-            if seen.insert(opposite) {
-                halved.push(opposite);
+        for quads in [rules, &pairs] {
+            for &(qi, i) in quads.at(k) {
+                let q = quads.quads[qi];
+                let opposite = key(q[(i + 2) % 4], q[(i + 3) % 4]);
+                if seen.insert(opposite) {
+                    halved.push(opposite);
+                }
             }
         }
     }
     halved
+}
+
+/// How many elements the `rules`' and the `pairs`' quads become where
+/// the edges of `halved` are halved: one a quad, two where one pair of
+/// its sides is halved, four where both are.
+pub(super) fn after_halving(rules: &EdgeQuads, pairs: &[[u32; 4]], halved: &[(u32, u32)]) -> usize {
+    let pairs = EdgeQuads::new(pairs);
+    let is_halved: HashSet<(u32, u32)> = halved.iter().copied().collect();
+    let mut extra = 0;
+    for quads in [rules, &pairs] {
+        let touched: HashSet<usize> = halved
+            .iter()
+            .flat_map(|&k| quads.at(k).iter().map(|&(qi, _)| qi))
+            .collect();
+        for qi in touched {
+            let q = quads.quads[qi];
+            let h = |i: usize| is_halved.contains(&key(q[i], q[(i + 1) % 4]));
+            extra += if h(0) && h(1) { 3 } else { 1 };
+        }
+    }
+    rules.quads.len() + pairs.quads.len() + extra
 }
 
 /// An open region's triangulation: its points (the loop's nodes first,

@@ -22,7 +22,9 @@ use petgraph::algo::maximum_matching;
 use petgraph::graph::{NodeIndex, UnGraph};
 use std::collections::{HashMap, HashSet};
 
-use super::open_region::{halving, key, triangulate_region, Spacing, Triangulated};
+use super::open_region::{
+    after_halving, halving, key, triangulate_region, EdgeQuads, Spacing, Triangulated,
+};
 use super::triangles::FallbackError;
 use crate::geometry::{quad_angles, quad_is_convex};
 
@@ -50,7 +52,6 @@ pub(super) fn pair_up(
     tris: &[[u32; 3]],
     fixed: &HashSet<(u32, u32)>,
 ) -> (Vec<[u32; 4]>, Vec<[u32; 3]>) {
-    let key = |a: u32, b: u32| (a.min(b), a.max(b));
     // each directed edge's triangle and the corner opposite it
     let mut by_edge: HashMap<(u32, u32), (usize, u32)> = HashMap::new();
     for (t, tri) in tris.iter().enumerate() {
@@ -213,11 +214,11 @@ pub(super) struct PairedRegion {
 /// interior points at a denser one, and its triangles more ways to
 /// pair), the one whose closing makes the fewest elements, the triangles
 /// left over split in three and the halving carried along the chords of
-/// `quads` (the rules' elements; the coarser spacing on a tie). With
+/// `rules` (the rules' elements; the coarser spacing on a tie). With
 /// pairing off, the triangles at the split spacing, none paired.
 pub(super) fn pair_region(
     nodes: &[DVec2],
-    quads: &[[u32; 4]],
+    rules: &EdgeQuads,
     loop_edges: &[(u32, u32)],
     times: &HashMap<(u32, u32), u32>,
     spacing: Spacing,
@@ -275,22 +276,10 @@ pub(super) fn pair_region(
                 .copied()
                 .unwrap_or(nodes.len() as u32 + n - ids.len() as u32)
         };
-        let mut all: Vec<[u32; 4]> = quads.to_vec();
-        all.extend(pairs.iter().map(|q| q.map(id)));
+        let quads: Vec<[u32; 4]> = pairs.iter().map(|q| q.map(id)).collect();
         let tris: Vec<[u32; 3]> = left_over.iter().map(|t| t.map(id)).collect();
-        let halved: HashSet<(u32, u32)> = halving(&all, &tris).into_iter().collect();
-        let elements: usize = all
-            .iter()
-            .map(|q| {
-                let h = |i: usize| halved.contains(&key(q[i], q[(i + 1) % 4]));
-                match (h(0), h(1)) {
-                    (false, false) => 1,
-                    (true, true) => 4,
-                    _ => 2,
-                }
-            })
-            .sum::<usize>()
-            + 3 * tris.len();
+        let halved = halving(rules, &quads, &tris);
+        let elements = after_halving(rules, &quads, &halved) + 3 * tris.len();
         if best.as_ref().is_none_or(|(e, _)| elements < *e) {
             let done = left_over.is_empty();
             best = Some((

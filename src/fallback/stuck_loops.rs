@@ -18,7 +18,7 @@ use glam::DVec2;
 use std::collections::HashMap;
 
 pub use super::open_region::Spacing;
-use super::open_region::{halving, key};
+use super::open_region::{halving, key, EdgeQuads};
 use super::pairs;
 use super::triangles::{place_centre, project_on_chain, split_in_three, FallbackError};
 use crate::geometry::{segments_intersect, SegmentRelation};
@@ -194,16 +194,19 @@ fn close_region(
         return Err(FallbackError("no open loop".into()));
     }
 
-    let region = pairs::pair_region(&out.nodes, &out.quads, &loop_edges, &times, spacing)?;
+    let rule_quads = std::mem::take(&mut out.quads);
+    let rules = EdgeQuads::new(&rule_quads);
+    let region = pairs::pair_region(&out.nodes, &rules, &loop_edges, &times, spacing)?;
     // the lattice points become mesh nodes
     let mut ids = region.ids;
     for &p in &region.points[ids.len()..] {
         ids.push(out.add_node(p, NodeKind::Interior));
     }
-    let paired = region.pairs.len();
-    let mut all_quads = std::mem::take(&mut out.quads);
-    let rule_count = all_quads.len();
-    all_quads.extend(region.pairs.iter().map(|q| q.map(|n| ids[n as usize])));
+    let paired: Vec<[u32; 4]> = region
+        .pairs
+        .iter()
+        .map(|q| q.map(|n| ids[n as usize]))
+        .collect();
     let triangles: Vec<[u32; 3]> = region
         .left_over
         .iter()
@@ -212,8 +215,11 @@ fn close_region(
 
     // The halving: every edge of a triangle left over, carried along the
     // chords of the quads.
-    let halved = halving(&all_quads, &triangles);
+    let halved = halving(&rules, &paired, &triangles);
     let mut is_halved: HashMap<(u32, u32), u32> = halved.iter().map(|&k| (k, u32::MAX)).collect();
+    let rule_count = rule_quads.len();
+    let any_paired = !paired.is_empty();
+    let all_quads: Vec<[u32; 4]> = rule_quads.into_iter().chain(paired).collect();
     for &k in &halved {
         let m = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
         let id = match on_curve.get(&k) {
@@ -304,7 +310,7 @@ fn close_region(
         loop_elements,
         split_elements,
         taken_back: taken,
-        paired: paired > 0,
+        paired: any_paired,
     })
 }
 

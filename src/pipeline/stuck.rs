@@ -37,8 +37,9 @@ impl Run<'_> {
         )
     }
 
-    /// The spacings of the open loops' triangles (bound(fallback_pairs)
-    /// and bound(fallback_spacing) sizes of `size`).
+    /// The spacings of the open loops' triangles: bound(fallback_pairs)
+    /// lengths of the loop's edges where they are paired,
+    /// bound(fallback_spacing) times `size` where they are split.
     fn spacing(&self, size: f64) -> stuck_loops::Spacing {
         let host = self.mesher.settings().host;
         stuck_loops::Spacing {
