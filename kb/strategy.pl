@@ -196,6 +196,14 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   retry_needs(V, many_elements), its retry_bound/3 bounds in place;
 %   that mesh is kept where it is nearer the bounds, or as near with
 %   fewer elements, and the trace's first step says so. 0: never.
+% blocks_over_free: blocks within the bounds are kept without a free
+%   mesh unless they have more than this many times the elements the
+%   boundary's segment lengths ask for (the area over their mean length
+%   squared): the blocks' counts must agree across every block, so fine
+%   fixed counts on one side refine the whole layout. Then the domain is
+%   meshed free too, and the free mesh kept where it is within the
+%   bounds and the blocks have more than this many times its elements
+%   (the trace's first step says so). 0: the blocks kept.
 % boundary_slide: where an element is still past the bounds after the
 %   clean-up, easing may slide a boundary node that lies inside a
 %   straight input edge along that edge (never an input vertex), at least
@@ -250,6 +258,7 @@ bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
 bound(coarser_when_over, 1.2).
+bound(blocks_over_free, 1.25).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %

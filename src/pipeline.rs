@@ -499,13 +499,7 @@ fn coarse_boundary_limit(disc: &Discretised, size: f64, factor: f64) -> Option<f
     if factor <= 0.0 {
         return None;
     }
-    let nodes = &disc.mesh.nodes;
-    let longest = disc
-        .front_loops
-        .iter()
-        .flat_map(|l| (0..l.len()).map(move |i| (l[i], l[(i + 1) % l.len()])))
-        .map(|(a, b)| (nodes[a as usize] - nodes[b as usize]).length())
-        .fold(0.0, f64::max);
+    let longest = disc.segment_lengths().fold(0.0, f64::max);
     (longest > factor * size).then_some(longest)
 }
 
@@ -524,6 +518,20 @@ impl PreparedRun {
     /// `max_size`; see `coarse_boundary_limit`).
     pub(crate) fn is_graded_for_coarse_boundary(&self) -> bool {
         self.grown_to.is_some()
+    }
+
+    /// How many elements the boundary's segments ask for: the domain's
+    /// area over the square of their mean length (as many as a mesh has
+    /// whose elements follow the boundary's segment lengths inward).
+    pub(crate) fn elements_the_boundary_asks(&self) -> f64 {
+        let (length, count) =
+            (self.boundary.segment_lengths()).fold((0.0, 0), |(l, n), x| (l + x, n + 1));
+        let mean = length / count.max(1) as f64;
+        if mean > 0.0 {
+            self.domain.area() / (mean * mean)
+        } else {
+            0.0
+        }
     }
 
     /// The trace's words where the run is graded for a coarse boundary

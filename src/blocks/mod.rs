@@ -201,10 +201,15 @@ fn choose_uniform_mesh(
         let best = best_block_mesh(domain, kb, opts, settings, kb_before, share, &mut tried)?;
         if let Some((b, mut r, name)) = best {
             if b.outside == 0 {
-                r.phases.blocks =
-                    started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
-                progress(r.mesh.quads.len());
-                return Ok(with_first_step(r, &name, tried));
+                match score::blocks_over_free_words(&r, &prepared, settings) {
+                    None => {
+                        r.phases.blocks =
+                            started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+                        progress(r.mesh.quads.len());
+                        return Ok(with_first_step(r, &name, tried));
+                    }
+                    Some(words) => tried.push(words),
+                }
             }
             first_blocks = Some(Some((b, r, name)));
         } else {
@@ -219,6 +224,31 @@ fn choose_uniform_mesh(
     }
     let score = Score::of(&free, settings, domain);
     if score.outside == 0 {
+        // blocks within the bounds but with many elements (above): kept
+        // unless they have many more than the free mesh
+        if let Some(Some((b, mut r, name))) = first_blocks.take() {
+            let over = settings.host.blocks_over_free;
+            let (blocks, free_count) = (r.mesh.quads.len(), free.mesh.quads.len());
+            if b.outside == 0 && (blocks as f64) <= over * free_count as f64 {
+                tried.push(format!(
+                    "free: within the bounds, {free_count} elements, {} irregular nodes: the blocks kept (at most bound(blocks_over_free, {over}) times its elements)",
+                    score.irregular
+                ));
+                r.phases.blocks =
+                    started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+                progress(r.mesh.quads.len());
+                return Ok(with_first_step(r, &name, tried));
+            }
+            if b.outside == 0 {
+                free.phases.blocks = before_free;
+                tried.push(format!(
+                    "free: within the bounds, {free_count} elements, {} irregular nodes: kept (the blocks have over bound(blocks_over_free, {over}) times its elements)",
+                    score.irregular
+                ));
+                return Ok(with_first_step(free, "free", tried));
+            }
+            first_blocks = Some(Some((b, r, name)));
+        }
         if first_blocks.is_some() {
             // the blocks' time before it, and what they gave, told
             free.phases.blocks = before_free;

@@ -1,6 +1,7 @@
 //! How near a mesh is to the bounds, to choose among the meshes tried
 //! (blocks, free, retries): the elements out of bounds, weighed by how
-//! far, then the irregular interior nodes.
+//! far, then the irregular interior nodes; and whether blocks within the
+//! bounds have so many elements that the free mesh is made too.
 
 use crate::input::domain::Domain;
 use crate::pipeline::MeshResult;
@@ -174,6 +175,25 @@ pub fn irregular_nodes(mesh: &crate::mesh::Mesh) -> usize {
     (0..n)
         .filter(|&v| valence[v] > 0 && !on_boundary[v] && valence[v] != 4)
         .count()
+}
+
+/// Where blocks within the bounds have more than `bound(blocks_over_free,
+/// K)` times the elements the boundary's segment lengths ask for, the
+/// trace's words for it (the free mesh is then made too); None: the
+/// blocks are kept as they are.
+pub(super) fn blocks_over_free_words(
+    blocks: &MeshResult,
+    prepared: &crate::pipeline::PreparedRun,
+    settings: &crate::settings::Settings,
+) -> Option<String> {
+    let over = settings.host.blocks_over_free;
+    let asks = prepared.elements_the_boundary_asks();
+    let count = blocks.mesh.quads.len();
+    (over > 0.0 && count as f64 > over * asks).then(|| {
+        format!(
+            "blocks: {count} elements, over bound(blocks_over_free, {over}) times the {asks:.0} the boundary's segment lengths ask for: meshed free too"
+        )
+    })
 }
 
 #[cfg(test)]

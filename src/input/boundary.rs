@@ -116,6 +116,18 @@ pub struct Discretised {
     pub thin_wall_edges: usize,
 }
 
+impl Discretised {
+    /// The length of every segment of the initial loops.
+    pub fn segment_lengths(&self) -> impl Iterator<Item = f64> + '_ {
+        let nodes = &self.mesh.nodes;
+        self.front_loops.iter().flat_map(move |l| {
+            (0..l.len()).map(move |i| {
+                (nodes[l[i] as usize] - nodes[l[(i + 1) % l.len()] as usize]).length()
+            })
+        })
+    }
+}
+
 /// One component to join: the closed rings and open paths of node ids of
 /// the chains that meet one another (one chain, unless lines end on a
 /// loop or on each other).
