@@ -153,7 +153,8 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   blocks first (the paper's Fig. 17: the rules lay out mapping
 %   elements at a coarse size, each meshed as a structured grid), on the
 %   layouts with at most blocks_when_out_of_bounds of their blocks free;
-%   where one is within the bounds it is kept and no free mesh is made:
+%   where one is within the bounds it is kept and no free mesh is made
+%   (unless it has many elements: blocks_over_free, below):
 %   on the public domains a tenth to a quarter of the free meshes'
 %   irregular interior nodes, in less time. Where none is, the domain is
 %   meshed free and the better of the two kept, as above. 0: the free

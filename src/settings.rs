@@ -270,7 +270,8 @@ pub struct HostBounds {
     pub retry_sharpest_corner: f64,
     /// `blocks_first`: a uniform run (without `--blocks`, no cracks) is
     /// meshed in blocks first, and where a layout's mesh is within the
-    /// bounds it is kept and no free mesh made (0: the free mesh first;
+    /// bounds it is kept and no free mesh made, unless it has many
+    /// elements (`blocks_over_free`) (0: the free mesh first;
     /// see blocks/mod.rs, `mesh_free_then_blocks`).
     pub blocks_first: f64,
     /// `out_of_bounds_step`: where every mesh tried falls short of the
