@@ -226,28 +226,30 @@ fn choose_uniform_mesh(
     if score.outside == 0 {
         // blocks within the bounds but with many elements (above): kept
         // unless they have many more than the free mesh
-        if let Some(Some((b, mut r, name))) = first_blocks.take() {
-            let over = settings.host.blocks_over_free;
-            let (blocks, free_count) = (r.mesh.quads.len(), free.mesh.quads.len());
-            if b.outside == 0 && (blocks as f64) <= over * free_count as f64 {
+        match first_blocks.take() {
+            Some(Some((b, mut r, name))) if b.outside == 0 => {
+                let over = settings.host.blocks_over_free;
+                let (blocks, free_count) = (r.mesh.quads.len(), free.mesh.quads.len());
+                let keep_blocks = (blocks as f64) <= over * free_count as f64;
                 tried.push(format!(
-                    "free: within the bounds, {free_count} elements, {} irregular nodes: the blocks kept (at most bound(blocks_over_free, {over}) times its elements)",
-                    score.irregular
+                    "free: within the bounds, {free_count} elements, {} irregular nodes: {}",
+                    score.irregular,
+                    if keep_blocks {
+                        format!("the blocks kept (at most bound(blocks_over_free, {over}) times its elements)")
+                    } else {
+                        format!("kept (the blocks have over bound(blocks_over_free, {over}) times its elements)")
+                    }
                 ));
-                r.phases.blocks =
-                    started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
-                progress(r.mesh.quads.len());
-                return Ok(with_first_step(r, &name, tried));
-            }
-            if b.outside == 0 {
+                if keep_blocks {
+                    r.phases.blocks =
+                        started.elapsed().as_secs_f64() - r.phases.smoothing - r.phases.check;
+                    progress(r.mesh.quads.len());
+                    return Ok(with_first_step(r, &name, tried));
+                }
                 free.phases.blocks = before_free;
-                tried.push(format!(
-                    "free: within the bounds, {free_count} elements, {} irregular nodes: kept (the blocks have over bound(blocks_over_free, {over}) times its elements)",
-                    score.irregular
-                ));
                 return Ok(with_first_step(free, "free", tried));
             }
-            first_blocks = Some(Some((b, r, name)));
+            other => first_blocks = other,
         }
         if first_blocks.is_some() {
             // the blocks' time before it, and what they gave, told
