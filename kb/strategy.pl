@@ -206,8 +206,8 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   bounds and the blocks have more than this many times its elements
 %   (the trace's first step says so). 0: the blocks kept.
 % boundary_slide: where an element is still past the bounds after the
-%   clean-up, easing may slide a boundary node that lies inside a
-%   straight input edge along that edge (never an input vertex), at least
+%   clean-up, easing may slide a boundary node that lies inside an input
+%   edge along that edge, straight or arc (never an input vertex), at least
 %   this share of the way between its neighbours from either: in a spike
 %   or a slot nearly every node is on the boundary, and the elements
 %   there have no other room. 0: boundary nodes stay where they were put.

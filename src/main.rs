@@ -584,7 +584,7 @@ fn mesh_one(
         );
         if result.stats.boundary_slides > 0 {
             eprintln!(
-                "{}: easing slid boundary nodes along their straight input edges {} times (bound(boundary_slide, S))",
+                "{}: easing slid boundary nodes along their input edges {} times (bound(boundary_slide, S))",
                 domain.name(),
                 result.stats.boundary_slides
             );

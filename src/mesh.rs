@@ -91,6 +91,16 @@ impl Mesh {
             .is_none_or(|v| v.binary_search(&[p.x.to_bits(), p.y.to_bits()]).is_ok())
     }
 
+    /// The area the boundary segments of the loops enclose (those of the
+    /// inner lines left out).
+    pub(crate) fn loops_area(&self) -> f64 {
+        self.boundary
+            .iter()
+            .filter(|e| (self.groups.get(e.group as usize)).is_none_or(|g| !g.starts_with("line ")))
+            .map(|e| self.nodes[e.a as usize].perp_dot(self.nodes[e.b as usize]) / 2.0)
+            .sum()
+    }
+
     /// Node coordinates.
     pub fn nodes(&self) -> &[DVec2] {
         &self.nodes

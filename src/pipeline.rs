@@ -752,8 +752,16 @@ pub(crate) fn finish_mesh(
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
         last_changes = Some(touched);
     }
-    // corners still outside the window: their neighbours make room
-    stats.boundary_slides += smoothing::ease_bad_corners(&mut mesh, bounds).1;
+    // corners still outside the window: their neighbours make room (a
+    // node slid along an arc changes the area its loop's segments enclose)
+    let enclosed = mesh.loops_area();
+    let slid = smoothing::ease_bad_corners(&mut mesh, bounds).1;
+    stats.boundary_slides += slid;
+    let area = if slid > 0 {
+        area + mesh.loops_area() - enclosed
+    } else {
+        area
+    };
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }

@@ -6,11 +6,11 @@
 //! lower how far the corners come near the window's edges (the squared
 //! degrees past a margin inside it). The neighbours make room that the
 //! bad element's own nodes then take; a node moving alone cannot, since
-//! its own worst corner decides (untangle.rs). A boundary node inside a
-//! straight input edge slides along it (never an input vertex, and never
-//! nearer than a fifth of the way to a neighbour): in a spike or a slot,
-//! where the elements' nodes are nearly all on the boundary, that is
-//! the only room there is. No move makes the worst corner round a node
+//! its own worst corner decides (untangle.rs). A boundary node inside an
+//! input edge slides along it, straight or along the arc's circle (never
+//! an input vertex, and never nearer than a fifth of the way to a
+//! neighbour): in a spike or a slot, where the elements' nodes are nearly
+//! all on the boundary, that is the only room there is. No move makes the worst corner round a node
 //! worse, nor the sizes and shapes past their bounds.
 
 use crate::element_quality::{badness_of, fixed_tips, quad_area, size_shape_excess, worst_around};
@@ -19,6 +19,7 @@ use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
 use crate::smoothing::compass::compass_search;
 use crate::smoothing::strips::{element_neighbours, node_elements};
+use glam::DVec2;
 
 /// How far inside the window (degrees) a corner starts to count.
 const MARGIN: f64 = 6.0;
@@ -130,8 +131,8 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usiz
                             || (w.1 <= best.1 + 1e-12 && w.2 < best.2 * (1.0 - 1e-6))))
             };
             let best = match rails[n] {
-                Some((a, b)) => {
-                    rail_search(mesh, n, (a, b), bounds.boundary_slide, start, score, better)
+                Some(rail) => {
+                    rail_search(mesh, n, rail, bounds.boundary_slide, start, score, better)
                 }
                 None => compass_search(mesh, n, &around[n], start, score, better),
             };
@@ -169,9 +170,34 @@ fn strain(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
         .sum()
 }
 
+/// The curve a boundary node may slide along, between its two boundary
+/// neighbours: the straight input edge they lie on, or the circle of the
+/// input arc (or circle) they lie on.
+#[derive(Debug, Clone, Copy)]
+enum Rail {
+    Line(DVec2, DVec2),
+    /// Centre, radius, the angle at the first neighbour and the signed
+    /// sweep to the second.
+    Arc(DVec2, f64, f64, f64),
+}
+
+impl Rail {
+    /// The point a share `t` of the way from the first neighbour.
+    fn at(&self, t: f64) -> DVec2 {
+        match *self {
+            Rail::Line(a, b) => a + (b - a) * t,
+            Rail::Arc(c, r, from, sweep) => {
+                let (sin, cos) = (from + sweep * t).sin_cos();
+                c + DVec2::new(cos, sin) * r
+            }
+        }
+    }
+}
+
 /// For each node, the two boundary neighbours it may slide between: an
-/// input boundary node inside a straight input edge (its two boundary
-/// edges in one group and on one line, the node not an input vertex).
+/// input boundary node inside one input edge (its two boundary edges in
+/// one group, the node not an input vertex), straight or an arc (the
+/// circle through it and its two neighbours is the arc's).
 fn boundary_rails(mesh: &Mesh) -> Vec<Option<(u32, u32)>> {
     let mut next: Vec<Vec<(u32, u32)>> = vec![Vec::new(); mesh.nodes.len()];
     for e in &mesh.boundary {
@@ -186,22 +212,58 @@ fn boundary_rails(mesh: &Mesh) -> Vec<Option<(u32, u32)>> {
             if ga != gb || mesh.is_input_vertex(n) {
                 return None;
             }
-            let (pa, pb, p) = (
+            let (pa, p, pb) = (
                 mesh.nodes[a as usize],
-                mesh.nodes[b as usize],
                 mesh.nodes[n],
+                mesh.nodes[b as usize],
             );
-            let ab = pb - pa;
-            let straight = (p - pa).perp_dot(ab).abs() <= 1e-12 * ab.length_squared();
-            let between = (p - pa).dot(ab) > 0.0 && (p - pb).dot(ab) < 0.0;
-            (straight && between).then_some((a, b))
+            rail_through(pa, p, pb).map(|_| (a, b))
         })
         .collect()
 }
 
-/// The best place for boundary node `n` on the line between its
-/// neighbours `a` and `b`, as the compass search but along the line, at
-/// least `keep` of the way from either (`bound(boundary_slide, _)`).
+/// The rail from `pa` to `pb` through `p`, and the share of the way `p`
+/// is at: the line where the three are in line, else their circle (None
+/// where `p` is not between the two, or is off their line by a millionth
+/// of its length or less: a straight edge's node rounded off it).
+fn rail_through(pa: DVec2, p: DVec2, pb: DVec2) -> Option<(Rail, f64)> {
+    let ab = pb - pa;
+    if (p - pa).perp_dot(ab).abs() <= 1e-12 * ab.length_squared() {
+        let between = (p - pa).dot(ab) > 0.0 && (p - pb).dot(ab) < 0.0;
+        let len = ab.length();
+        let t = (p - pa).dot(ab / len) / len;
+        return between.then_some((Rail::Line(pa, pb), t));
+    }
+    // the circumcentre, from p (the nearest of the three)
+    let (u, v) = (pa - p, pb - p);
+    let d = 2.0 * u.perp_dot(v);
+    let centre = p + DVec2::new(
+        v.y * u.length_squared() - u.y * v.length_squared(),
+        u.x * v.length_squared() - v.x * u.length_squared(),
+    ) / d;
+    let r = (p - centre).length();
+    // a straight edge's node a rounding off its line is no arc's
+    let sagitta = (p - pa).perp_dot(ab).abs() / ab.length();
+    if !(r.is_finite() && sagitta > 1e-6 * ab.length()) {
+        return None;
+    }
+    let angle = |x: DVec2| (x - centre).y.atan2((x - centre).x);
+    let wrap = |x: f64| {
+        let t = std::f64::consts::TAU;
+        x - t * ((x + t / 2.0) / t).floor()
+    };
+    let (to_p, p_to_b) = (wrap(angle(p) - angle(pa)), wrap(angle(pb) - angle(p)));
+    if to_p * p_to_b <= 0.0 {
+        return None;
+    }
+    let sweep = to_p + p_to_b;
+    Some((Rail::Arc(centre, r, angle(pa), sweep), to_p / sweep))
+}
+
+/// The best place for boundary node `n` on its rail between its
+/// neighbours `a` and `b` (as they are now: they may have slid too), as
+/// the compass search but along the rail, at least `keep` of the way from
+/// either (`bound(boundary_slide, _)`).
 fn rail_search<S: Copy>(
     mesh: &mut Mesh,
     n: usize,
@@ -210,14 +272,11 @@ fn rail_search<S: Copy>(
     start: S,
     mut score: impl FnMut(&Mesh, S) -> Option<S>,
     better: impl Fn(S, S) -> bool,
-) -> glam::DVec2 {
-    let (pa, pb, old) = (
-        mesh.nodes[a as usize],
-        mesh.nodes[b as usize],
-        mesh.nodes[n],
-    );
-    let len = (pb - pa).length();
-    let t0 = (old - pa).dot((pb - pa) / len) / len;
+) -> DVec2 {
+    let old = mesh.nodes[n];
+    let Some((rail, t0)) = rail_through(mesh.nodes[a as usize], old, mesh.nodes[b as usize]) else {
+        return old;
+    };
     let (lo, hi) = (keep.min(t0), (1.0 - keep).max(t0));
     let mut best = (start, t0);
     let mut step = 0.125;
@@ -227,7 +286,7 @@ fn rail_search<S: Copy>(
             if t < lo || t > hi {
                 continue;
             }
-            mesh.nodes[n] = pa + (pb - pa) * t;
+            mesh.nodes[n] = rail.at(t);
             if let Some(w) = score(mesh, best.0) {
                 if better(w, best.0) {
                     best = (w, t);
@@ -240,6 +299,6 @@ fn rail_search<S: Copy>(
     if best.1 == t0 {
         old
     } else {
-        pa + (pb - pa) * best.1
+        rail.at(best.1)
     }
 }

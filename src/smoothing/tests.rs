@@ -139,6 +139,26 @@ fn a_boundary_node_slides_along_its_edge_to_ease_a_corner() {
     }
 }
 
+/// A boundary node inside an input arc slides along the arc's circle:
+/// the strip's bottom is an arc through (0, 0) and (2, 0) centred at
+/// (1, 5), its middle node pushed to x = 0.3 on it.
+#[test]
+fn a_boundary_node_slides_along_its_arc_to_ease_a_corner() {
+    let mut m = strip_with_a_pushed_bottom_node(&[0, 2, 3, 5]);
+    let (centre, r) = (DVec2::new(1.0, 5.0), 26f64.sqrt());
+    m.nodes[1] = DVec2::new(0.3, 5.0 - (r * r - 0.49).sqrt());
+    let bounds = ElementBounds::default();
+    assert!(crate::element_quality::badness_of(&m, 1, &bounds) > 0.0);
+    let (moved, slid) = crate::smoothing::ease_bad_corners(&mut m, &bounds);
+    assert!(slid > 0 && moved >= slid, "{moved} moves, {slid} slides");
+    let off = ((m.nodes[1] - centre).length() - r).abs();
+    assert!(off < 1e-12, "the node left its arc by {off}");
+    assert!(m.nodes[1].x > 0.4 && m.nodes[1].x < 1.6, "{}", m.nodes[1]);
+    for q in 0..2 {
+        assert_eq!(crate::element_quality::badness_of(&m, q, &bounds), 0.0);
+    }
+}
+
 /// An input vertex stays where it is, even where its edges run on in one
 /// line (a vertex that splits a side for its segment counts or tags).
 #[test]
