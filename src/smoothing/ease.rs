@@ -112,9 +112,18 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usiz
             let (worst, _) = worst_around(mesh, &around[n], bounds);
             let start = (worst, past(mesh), strain(mesh, &around[n], bounds));
             let old = mesh.nodes[n];
+            // an element round the node within the window stays so: the
+            // worst corner eased at the price of another leaving it is no gain
+            let outside = |m: &Mesh| {
+                around[n]
+                    .iter()
+                    .filter(|&&(q, _)| badness_of(m, q as usize, bounds) > 0.0)
+                    .count()
+            };
+            let outside_before = outside(mesh);
             let score = |m: &Mesh, best: (f64, f64, f64)| {
                 let (w, _) = worst_around(m, &around[n], bounds);
-                if !w.is_finite() || w > best.0 + 1e-9 {
+                if !w.is_finite() || w > best.0 + 1e-9 || outside(m) > outside_before {
                     return None;
                 }
                 let p = past(m);
