@@ -19,6 +19,7 @@ the other bounds keep the values below).
 :- dynamic(retry_bound/3).
 :- dynamic(retry_needs/2).
 :- dynamic(at_the_size/2).
+:- dynamic(coarser_with/2).
 
 %% strategy(-Features)
 %
@@ -271,7 +272,9 @@ bound(blocks_over_free, 1.25).
 % the trace's first step says which.
 % coarser_fine_features lets the transitions see a small feature's fine
 % edges in a uniform run (uniform_size_band 1.5), so that they grow back
-% to the size: tried on a mesh with many elements (coarser_when_over).
+% to the size: tried on a mesh with many elements (coarser_when_over),
+% beside it the same with each of the three retries below that move a
+% design threshold (coarser_with/2).
 % uniform_at_the_size meshes a domain whose coarse fixed counts graded it
 % (coarse_boundary_grading) at the size instead, as without that bound:
 % where the graded mesh falls short, the uniform one is often within.
@@ -306,6 +309,27 @@ retry_bound(V, N, X) :-
     (   N = coarse_boundary_grading, X = 0
     ;   retry_bound(Of, N, X)
     ).
+% A coarser variant: coarser_fine_features and a retry's bounds.
+retry_bound(V, N, X) :-
+    coarser_with(V, Of),
+    (   retry_bound(coarser_fine_features, N, X)
+    ;   retry_bound(Of, N, X)
+    ).
+
+%% coarser_with(?Variant, ?Of)
+%
+% Variant is coarser_fine_features with the retry Of's bounds too: tried
+% on a mesh with many elements beside coarser_fine_features, since a
+% coarser mesh one or two elements outside the bounds is often within
+% them where the fronts take other ways, as a retry's are.
+%
+% ?- retry_bound(coarser_no_sharp_front_corners, N, X).
+%    N = uniform_size_band, X = 1.5
+% ;  N = min_front_angle, X = 20
+% ;  false.
+coarser_with(coarser_no_sharp_front_corners, no_sharp_front_corners).
+coarser_with(coarser_fronts_merge_nearer, fronts_merge_nearer).
+coarser_with(coarser_flatter_near_horizontal, flatter_near_horizontal).
 
 %% at_the_size(?Variant, ?Of)
 %
@@ -333,6 +357,8 @@ at_the_size(uniform_flatter_near_horizontal, flatter_near_horizontal).
 %    V = refine_fixed_counts.
 retry_needs(uniform_at_the_size, coarse_boundary).
 retry_needs(coarser_fine_features, many_elements).
+retry_needs(V, many_elements) :-
+    coarser_with(V, _).
 retry_needs(V, coarse_boundary) :-
     at_the_size(V, _).
 retry_needs(refine_fixed_counts, fixed_counts).

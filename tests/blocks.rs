@@ -216,6 +216,42 @@ fn blocks_with_many_more_elements_than_the_free_mesh_give_way_to_it() {
     );
 }
 
+/// Small holes in a slot spread fine elements until the fronts meet: the
+/// coarser pass's own variant (coarser_fine_features) leaves one element
+/// outside the bounds, the same with a design threshold moved
+/// (`coarser_with/2`, kb/strategy.pl) is within them, with about two
+/// thirds of the first run's elements.
+#[test]
+fn a_coarser_variant_with_a_retrys_threshold_is_kept_where_it_is_within_the_bounds() {
+    let d = load("tests/counts/small-holes-in-a-slot.json");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    within_the_bounds_below(&r, "small holes in a slot", 45.0);
+    let told = &r.trace[0].redesign;
+    let first: usize = told[0]
+        .split(" elements, over bound(coarser_when_over")
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{told:?}"));
+    assert!(
+        told.iter().any(|t| t.starts_with("coarser coarser_fine_features (")
+            && t.contains(" 1 elements out of bounds")
+            && t.ends_with(": not kept")),
+        "{told:?}"
+    );
+    let kept: Vec<&String> = told.iter().filter(|t| t.ends_with(": kept")).collect();
+    assert_eq!(kept.len(), 1, "{told:?}");
+    assert!(kept[0].contains(" 0 elements out of bounds"), "{told:?}");
+    assert_eq!(
+        r.trace[0].action,
+        "coarser(coarser_flatter_near_horizontal)",
+        "{told:?}"
+    );
+    let quads = r.mesh.quads().len();
+    assert!(3 * quads < 2 * first, "{quads} elements, the first run {first}");
+}
+
 #[test]
 fn a_layout_made_by_the_second_engine_gives_the_same_mesh_and_trace() {
     let d = load("../shared/bench/domains/fig1-polygon.json");
