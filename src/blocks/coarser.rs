@@ -4,10 +4,10 @@
 //! narrow part or fine fixed counts whose elements spread inward until
 //! the fronts meet) is meshed again with each variant of
 //! `retry_needs(V, many_elements)` (its `retry_bound/3` bounds in place:
-//! the transitions then grow those elements back to the size; the
-//! variants side by side on the machine's cores), and the mesh nearest
-//! the bounds kept, or as near with fewer elements, the variants taken
-//! in their order. The trace's first step says what was tried and kept.
+//! the transitions then grow those elements back to the size), in their
+//! order until one is within the bounds with no more than K times those
+//! elements, and the mesh nearest the bounds kept, or as near with fewer
+//! elements. The trace's first step says what was tried and kept.
 
 use super::retries::bound_words;
 use super::{mesh_uniform_run, Retries, Score, UniformRun};
@@ -51,17 +51,47 @@ pub(super) fn coarser_when_over(
         "{count} elements, over bound(coarser_when_over, {over}) times the domain's area over the size squared ({area_count:.0})"
     )];
     let user_files = kb.user_files().to_vec();
-    let second = kb.has_second_engine();
-    let runs = run_variants(domain, &user_files, opts, &variants, retried, second);
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     // the runs' times: all of them, and the kept one's
     let (mut all_runs, mut kept_run) = (first_run, first_run);
-    for ((variant, bounds, _), (run, this_run)) in variants.iter().zip(runs) {
+    for (i, (variant, bounds, _)) in variants.iter().enumerate() {
+        // a variant after one kept within the bounds and with few enough
+        // elements is not needed
+        let enough = (kept.1.mesh.quads.len() as f64) <= over * area_count;
+        if kept.0.outside == 0 && enough {
+            said.push(format!(
+                "coarser: within the bounds with at most bound(coarser_when_over, {over}) times the area's elements, {} variants after it not tried",
+                variants.len() - i
+            ));
+            break;
+        }
+        let started = std::time::Instant::now();
         let words = bound_words(bounds);
+        // a second engine with the same bounds where the first run had
+        // one (it makes the finest layout while this one makes the others)
+        let second = kb.has_second_engine().then(|| {
+            KnowledgeBase::second_engine_loading_with_bounds(user_files.clone(), bounds.clone())
+        });
+        let mut other = KnowledgeBase::with_bounds(&user_files, bounds)?;
+        if let Some(second) = second {
+            other.take_second_engine(second);
+        }
+        let run = mesh_uniform_run(
+            domain,
+            None,
+            &mut other,
+            opts,
+            if retried {
+                Retries::LeftToTheFirstRun
+            } else {
+                Retries::Tried
+            },
+            &mut |_| {},
+        );
+        let this_run = started.elapsed().as_secs_f64();
         all_runs += this_run;
         let c = match run {
             Ok(c) => c.result,
-            Err(e @ Error::Kb(_)) => return Err(e),
             Err(e) => {
                 said.push(format!("coarser {variant} ({words}): {e}"));
                 continue;
@@ -94,66 +124,6 @@ pub(super) fn coarser_when_over(
     let (_, mut r, variant) = kept;
     r.phases.coarser = all_runs - kept_run;
     Ok(tell_first(r, variant.as_deref(), said))
-}
-
-/// Each variant's uniform run and its time, in the variants' order:
-/// each on an engine of its own with the variant's bounds in place, as
-/// many at once as there are cores (each core taking the next variant as
-/// it is free), so the outcome is the same whatever the cores. Where
-/// the first run had a second engine and there are fewer variants than
-/// cores, each run has one too (it makes the finest layout while its
-/// first engine makes the others).
-fn run_variants(
-    domain: &Domain,
-    user_files: &[String],
-    opts: &Options,
-    variants: &[crate::kb::RetryVariant],
-    retried: bool,
-    second: bool,
-) -> Vec<(Result<UniformRun, Error>, f64)> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let retries = if retried {
-        Retries::LeftToTheFirstRun
-    } else {
-        Retries::Tried
-    };
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let second = second && variants.len() < cores;
-    let next = AtomicUsize::new(0);
-    let done: Mutex<Vec<Option<(Result<UniformRun, Error>, f64)>>> =
-        Mutex::new((0..variants.len()).map(|_| None).collect());
-    let work = || loop {
-        let i = next.fetch_add(1, Ordering::SeqCst);
-        let Some((_, bounds, _)) = variants.get(i) else {
-            return;
-        };
-        let started = std::time::Instant::now();
-        let second = second.then(|| {
-            KnowledgeBase::second_engine_loading_with_bounds(user_files.to_vec(), bounds.clone())
-        });
-        let run = KnowledgeBase::with_bounds(user_files, bounds)
-            .map_err(Error::from)
-            .and_then(|mut other| {
-                if let Some(second) = second {
-                    other.take_second_engine(second);
-                }
-                mesh_uniform_run(domain, None, &mut other, opts, retries, &mut |_| {})
-            });
-        let took = started.elapsed().as_secs_f64();
-        done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some((run, took));
-    };
-    std::thread::scope(|scope| {
-        let helpers: Vec<_> = (1..cores.min(variants.len()))
-            .map(|_| scope.spawn(work))
-            .collect();
-        work();
-        for h in helpers {
-            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-        }
-    });
-    let done = done.into_inner().unwrap_or_else(|e| e.into_inner());
-    done.into_iter().flatten().collect()
 }
 
 /// Puts `said` first in the trace's first step (a step of its own where
