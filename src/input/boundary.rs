@@ -6,7 +6,7 @@ use glam::DVec2;
 use rustc_hash::FxHashMap;
 
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
-use crate::input::curves::min_arc_segments;
+use crate::input::curves::fewest_segments;
 use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
 use crate::input::thin_walls::match_facing_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
@@ -24,6 +24,7 @@ pub fn segment_counts(
 ) -> Result<(Vec<Vec<usize>>, usize), DomainError> {
     let mut counts = Vec::new();
     let mut fixed = Vec::new();
+    let area = domain.area();
     for chain in domain.chains() {
         let mut row = Vec::new();
         for (ei, e) in chain.edges.iter().enumerate() {
@@ -39,8 +40,9 @@ pub fn segment_counts(
                     }
                     // No segment spans more than 60 deg of arc, so the
                     // chords stay close to the curve: a circle gets at
-                    // least 6, a half circle 3.
-                    (est as usize).max(1).max(min_arc_segments(&e.curve))
+                    // least 6 (4 if it is small in the domain), a half
+                    // circle 3.
+                    (est as usize).max(1).max(fewest_segments(&e.curve, area))
                 }
             };
             row.push(n);

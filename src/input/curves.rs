@@ -191,6 +191,20 @@ pub(crate) fn min_arc_segments(c: &Curve) -> usize {
     (c.sweep() / (PI / 3.0) - 1e-9).ceil().max(1.0) as usize
 }
 
+/// The fewest segments a curve of a domain of `area` may have: a circle
+/// whose square of chords loses at most `SQUARE_CIRCLE_LOSS` of that
+/// area takes four (a small hole: six chords there only ask for rings
+/// of smaller elements round it), else `min_arc_segments`.
+pub(crate) fn fewest_segments(c: &Curve, area: f64) -> usize {
+    match *c {
+        Curve::Circle { radius, .. } if (PI - 2.0) * radius * radius <= SQUARE_CIRCLE_LOSS * area => 4,
+        _ => min_arc_segments(c),
+    }
+}
+
+/// The share of a domain's area a circle's square of chords may lose.
+const SQUARE_CIRCLE_LOSS: f64 = 0.002;
+
 /// An edge of a loop or line with its optional fixed segment count and tag.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Edge {
@@ -468,6 +482,19 @@ mod tests {
             a: DVec2::from(a),
             b: DVec2::from(b),
         }
+    }
+
+    #[test]
+    fn a_small_circle_takes_four_chords_and_a_large_one_six() {
+        let circle = |radius| Curve::Circle {
+            center: DVec2::ZERO,
+            radius,
+        };
+        // a square of chords loses (pi - 2) r^2: 0.1% of 100 here
+        assert_eq!(fewest_segments(&circle(0.3), 100.0), 4);
+        // 11% of 10: six chords, as any full turn of arc
+        assert_eq!(fewest_segments(&circle(1.0), 10.0), 6);
+        assert_eq!(min_arc_segments(&circle(0.3)), 6);
     }
 
     #[test]
