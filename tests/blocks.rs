@@ -240,14 +240,20 @@ fn a_coarser_variant_with_a_retrys_threshold_is_kept_where_it_does_better() {
         .iter()
         .filter(|t| t.starts_with("coarser coarser_") && t.contains(" elements, "))
         .collect();
-    assert!(tried[0].starts_with("coarser coarser_fine_features ("), "{told:?}");
+    assert!(
+        tried[0].starts_with("coarser coarser_fine_features ("),
+        "{told:?}"
+    );
     let kept = tried.iter().rev().find(|t| t.ends_with(": kept")).unwrap();
     let variant = kept.split(' ').nth(1).unwrap();
     assert_ne!(variant, "coarser_fine_features", "{told:?}");
     assert!(kept.contains(" 0 elements out of bounds"), "{told:?}");
     assert_eq!(r.trace[0].action, format!("coarser({variant})"), "{told:?}");
     let quads = r.mesh.quads().len();
-    assert!(3 * quads < 2 * first, "{quads} elements, the first run {first}");
+    assert!(
+        3 * quads < 2 * first,
+        "{quads} elements, the first run {first}"
+    );
 }
 
 #[test]

@@ -716,17 +716,15 @@ fn a_domain_with_coarse_fixed_counts_is_retried_with_refining_on() {
 
 /// A domain without fixed counts is retried too, by the variants that do
 /// not need them (`retry_needs/2`), in the KB's order until one is within
-/// the bounds: a slot (seed 912) whose free mesh and blocks leave
-/// elements outside comes within them when the fronts may leave no
-/// corner under 20 deg; another (seed 533) not so, but when the fronts
-/// merge only within 0.4 of the size. refine_fixed_counts, which needs
-/// fixed counts, is tried on neither.
+/// the bounds: a slot (seed 533) whose free mesh and blocks leave
+/// elements outside does not come within them when the fronts may leave
+/// no corner under 20 deg, but does when they merge only within 0.4 of
+/// the size. refine_fixed_counts, which needs fixed counts, is not tried.
+/// (Seed 912 was here too, kept by no_sharp_front_corners, until easing
+/// that keeps in-window elements in put its blocks within the bounds.)
 #[test]
 fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
-    for (seed, kept, before) in [
-        (912, "no_sharp_front_corners", &[][..]),
-        (533, "fronts_merge_nearer", &["no_sharp_front_corners"][..]),
-    ] {
+    for (seed, kept, before) in [(533, "fronts_merge_nearer", &["no_sharp_front_corners"][..])] {
         let opts = Options::default().with_trace(true);
         let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
         // the retries alone: no coarser mesh tried after them
@@ -894,9 +892,11 @@ fn boundary_nodes_slide_along_their_edges_where_elements_have_no_other_room() {
 /// the size squared asks for (tests/bounds/coarser-fine-features.json,
 /// the generator's seed 214: 120 elements where that is 57) is meshed
 /// again with the transitions seeing its small features' fine edges
-/// (`retry_needs(coarser_fine_features, many_elements)`), and that mesh,
-/// within the bounds with fewer elements, is kept: the trace's first step
-/// says both. With `bound(coarser_when_over, 0)` the first mesh stays.
+/// (`retry_needs(coarser_fine_features, many_elements)`), within the
+/// bounds with fewer elements; still over 1.2 times the area's, so the
+/// `coarser_with` variants are tried after it, and the one within the
+/// bounds with fewest elements kept: the trace's first step says all.
+/// With `bound(coarser_when_over, 0)` the first mesh stays.
 #[test]
 fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
     let text =
@@ -920,7 +920,7 @@ fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
     assert!(n * 10 < m * 9, "{n} coarser against {m}");
     let told = &coarser.trace[0];
     assert!(
-        told.action.starts_with("coarser(coarser_fine_features"),
+        told.action.starts_with("coarser(coarser_"),
         "{}",
         told.action
     );
@@ -931,13 +931,13 @@ fn a_mesh_with_many_more_elements_than_its_area_asks_is_meshed_coarser() {
         "{:?}",
         told.redesign
     );
-    assert!(
-        told.redesign[1].starts_with(&format!(
-            "coarser coarser_fine_features (bound(uniform_size_band, 1.5)): {n} elements, 0 elements out of bounds"
-        )),
-        "{:?}",
-        told.redesign
-    );
+    // coarser_fine_features first, within the bounds, with no fewer
+    // elements than the mesh kept
+    let cff = told.redesign[1]
+        .strip_prefix("coarser coarser_fine_features (bound(uniform_size_band, 1.5)): ")
+        .and_then(|t| t.split(" elements, 0 elements out of bounds").next())
+        .and_then(|c| c.parse::<usize>().ok());
+    assert!(cff.is_some_and(|c| c >= n), "{n}: {:?}", told.redesign);
     assert!(!first.trace[0]
         .redesign
         .iter()

@@ -197,7 +197,11 @@ pub(crate) fn min_arc_segments(c: &Curve) -> usize {
 /// of smaller elements round it), else `min_arc_segments`.
 pub(crate) fn fewest_segments(c: &Curve, area: f64) -> usize {
     match *c {
-        Curve::Circle { radius, .. } if (PI - 2.0) * radius * radius <= SQUARE_CIRCLE_LOSS * area => 4,
+        Curve::Circle { radius, .. }
+            if (PI - 2.0) * radius * radius <= SQUARE_CIRCLE_LOSS * area =>
+        {
+            4
+        }
         _ => min_arc_segments(c),
     }
 }
