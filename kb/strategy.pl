@@ -269,7 +269,8 @@ bound(blocks_over_free, 1.25).
 % meshed again, free and then in blocks, with each Variant's bounds in
 % place of the bounds of those names, in this order, until one mesh is
 % within the bounds; the mesh with fewest elements outside is kept and
-% the trace's first step says which.
+% the trace's first step says which. A graded mesh (max_size) that falls
+% short is meshed again the same way, free only: blocks are uniform.
 % coarser_fine_features lets the transitions see a small feature's fine
 % edges in a uniform run (uniform_size_band 1.5), so that they grow back
 % to the size: tried on a mesh with many elements (coarser_when_over),
@@ -351,7 +352,9 @@ at_the_size(uniform_flatter_near_horizontal, flatter_near_horizontal).
 % coarser than the size (coarse_boundary_grading); many_elements, a
 % uniform mesh with more elements than bound(coarser_when_over, K) times
 % the domain's area over the size squared: tried then whether or not the
-% mesh is within the bounds, never as a retry of one that falls short.
+% mesh is within the bounds, never as a retry of one that falls short;
+% uniform, a run not graded by a max_size (none built in: every retry
+% that applies is tried on a graded mesh that falls short too).
 %
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.

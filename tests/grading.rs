@@ -355,3 +355,48 @@ fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
         ["r3(1.0)"]
     );
 }
+
+/// A graded mesh that falls short is meshed again with the retries of
+/// `retry_bound/3`, free only (blocks are uniform), as a uniform one is:
+/// a star of the random families (tests/random_domains.rs, seed 243,
+/// `max_size` six times its size), one element out of the bounds as the
+/// rules first mesh it, within them with `fronts_merge_nearer` after
+/// `no_sharp_front_corners` fell short too. `retry_needs(V, uniform)`
+/// keeps a variant to uniform runs: with every built-in one so, the
+/// graded mesh is the first run's, its trace's first step saying it
+/// falls short and nothing more.
+#[test]
+fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
+    let text = std::fs::read_to_string("tests/inputs/graded-star-retried.json").unwrap();
+    let d = Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap();
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    within_the_bounds(&r, "graded star");
+    let told = &r.trace[0].redesign;
+    assert!(
+        told[0].starts_with("graded, free: 1 elements out of bounds")
+            && told[0].ends_with("(retried free only: blocks are uniform)"),
+        "{told:?}"
+    );
+    assert!(
+        told[1]
+            .starts_with("retry no_sharp_front_corners (bound(min_front_angle, 20)): 1 elements"),
+        "{told:?}"
+    );
+    assert!(told.iter().all(|t| !t.contains("layout")), "{told:?}");
+    assert_eq!(r.trace[0].action, "retry(fronts_merge_nearer)");
+
+    let mut uniform_only = kb_with("tests/kb/uniform-retries-only.pl");
+    let first = mesh_free_then_blocks(&d, None, &mut uniform_only, &opts, &mut |_| {}).unwrap();
+    let q = &first.quality;
+    let within = q.min_angle >= 44.5
+        && q.max_angle <= 135.5
+        && q.max_aspect <= 10.0
+        && q.max_taper <= 10.0
+        && q.max_size_jump <= 2.0;
+    assert!(!within, "{q:?}");
+    // its first step says it falls short, and no retry
+    assert_eq!(first.trace[0].action, "free");
+    assert_eq!(first.trace[0].redesign.len(), 1, "{:?}", first.trace[0]);
+}

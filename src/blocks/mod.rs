@@ -219,7 +219,14 @@ fn choose_uniform_mesh(
     }
     let before_free = started.elapsed().as_secs_f64();
     let mut free = crate::pipeline::mesh_prepared(kb, prepared, progress)?;
-    if share <= 0.0 || graded {
+    if graded {
+        let r = retries::graded_with_retries(
+            domain, free, settings, retries, retried, kb, opts, tried,
+        )?;
+        progress(r.mesh.quads.len());
+        return Ok(r);
+    }
+    if share <= 0.0 {
         return Ok(told(free, tried));
     }
     let score = Score::of(&free, settings, domain);
@@ -271,57 +278,22 @@ fn choose_uniform_mesh(
         Some(best) => best,
         None => best_block_mesh(domain, kb, opts, settings, kb_before, share, &mut tried)?,
     };
-    let mut best = best.filter(|(b, _, _)| *b < score);
-    let mut retries_time = 0.0;
-    let mut retry_kept = false;
+    let best = best.filter(|(b, _, _)| *b < score);
     // (a coarser run leaves them to the first run: the coarser pass's
     // own line says so)
-    if retries == Retries::Tried && best.as_ref().map_or(score, |b| b.0).outside > 0 {
-        let sharpest = sharpest_input_corner(&free.mesh, domain);
-        let retry_above = settings.host.retry_sharpest_corner;
-        if sharpest < retry_above {
-            tried.push(format!(
-                "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
-            ));
-        } else {
-            let fixed_counts = has_fixed_counts(domain);
-            let variants: Vec<_> = kb
-                .retry_variants()?
-                .into_iter()
-                .filter(|(_, _, needs)| {
-                    needs.iter().all(|n| match n.as_str() {
-                        "fixed_counts" => fixed_counts,
-                        "coarse_boundary" => coarse_boundary,
-                        "many_elements" => false,
-                        _ => true,
-                    })
-                })
-                .collect();
-            let user_files = kb.user_files().to_vec();
-            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-            let retries_started = std::time::Instant::now();
-            *retried = true;
-            let retries = retries::retry_in_parallel(
-                domain,
-                &user_files,
-                opts,
-                settings,
-                share,
-                &variants,
-                cores,
-                retries::fingerprint(&free.mesh),
-            );
-            retries_time = retries_started.elapsed().as_secs_f64();
-            for (retried, said) in retries {
-                let so_far = best.as_ref().map_or(score, |b| b.0);
-                tried.extend(said);
-                if let Some(kept) = retried?.filter(|k| k.0 < so_far) {
-                    best = Some(kept);
-                    retry_kept = true;
-                }
-            }
-        }
-    }
+    let (best, retries_time, retry_kept) = if retries == Retries::Tried {
+        let short = retries::Short {
+            free: &free.mesh,
+            best,
+            score,
+            blocks_share: share,
+            coarse_boundary,
+            graded: false,
+        };
+        retries::retry_where_short(domain, short, settings, opts, kb, &mut tried, retried)?
+    } else {
+        (best, 0.0, false)
+    };
     match best {
         Some((_, mut r, name)) => {
             let ph = &mut r.phases;

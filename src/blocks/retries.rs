@@ -2,9 +2,11 @@
 //! the domain is meshed again with each variant of `retry_bound/3` (the
 //! bounds it names in place), free and then in blocks, the variants side
 //! by side on the machine's cores; a variant whose free mesh is the first
-//! run's (its bounds changed nothing there) is not tried in blocks.
+//! run's (its bounds changed nothing there) is not tried in blocks. A
+//! graded run whose mesh falls short is retried the same way, free only
+//! (blocks are uniform), without the variants that need `uniform`.
 
-use super::{best_block_mesh, Score};
+use super::{best_block_mesh, sharpest_input_corner, Score};
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
 use crate::pipeline::{mesh_domain, Error, MeshResult, Options};
@@ -14,6 +16,153 @@ type Retried = (
     Result<Option<(Score, MeshResult, String)>, Error>,
     Vec<String>,
 );
+
+/// A graded run's free mesh, or where it falls short the retry of
+/// `retry_bound/3` (meshed free: blocks are uniform) nearest the bounds,
+/// where it is nearer than the first.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn graded_with_retries(
+    domain: &Domain,
+    mut free: MeshResult,
+    settings: &crate::settings::Settings,
+    retries: super::Retries,
+    retried: &mut bool,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    mut tried: Vec<String>,
+) -> Result<MeshResult, Error> {
+    let score = Score::of(&free, settings, domain);
+    if score.outside == 0 || retries != super::Retries::Tried {
+        return Ok(super::told(free, tried));
+    }
+    tried.push(format!(
+        "graded, free: {} (retried free only: blocks are uniform)",
+        score.words()
+    ));
+    let short = Short {
+        free: &free.mesh,
+        best: None,
+        score,
+        blocks_share: 0.0,
+        coarse_boundary: false,
+        graded: true,
+    };
+    let (best, retries_time, _) =
+        retry_where_short(domain, short, settings, opts, kb, &mut tried, retried)?;
+    // kept only nearer the bounds: a graded mesh's irregular nodes, the
+    // uniform runs' tie-break, are many whichever way the fronts went
+    match best.filter(|b| b.0.weight < score.weight) {
+        Some((_, mut r, name)) => {
+            // the kept mesh's own stages are among the retries; the first
+            // free mesh, not kept, is before them
+            let ph = &mut r.phases;
+            let own = ph.prepare + ph.recursion + ph.smoothing + ph.check;
+            ph.blocks = free.phases.prepare
+                + free.phases.recursion
+                + free.phases.smoothing
+                + free.phases.check;
+            ph.retries = retries_time - own;
+            Ok(super::with_first_step(r, &name, tried))
+        }
+        None => {
+            free.phases.retries = retries_time;
+            Ok(super::with_first_step(free, "free", tried))
+        }
+    }
+}
+
+/// A mesh that may fall short, for `retry_where_short`: the first run's
+/// free mesh and its score, the best mesh so far (blocks, where better),
+/// the share of free blocks a retry's layout may have (0: a graded run,
+/// retried free only) and whether the run is graded for a coarse boundary.
+pub(super) struct Short<'a> {
+    pub free: &'a crate::mesh::Mesh,
+    pub best: Option<(Score, MeshResult, String)>,
+    pub score: Score,
+    pub blocks_share: f64,
+    pub coarse_boundary: bool,
+    /// Graded by a `max_size` (a variant that needs `uniform` is not
+    /// tried; one that needs `graded` is tried only then).
+    pub graded: bool,
+}
+
+/// Where the best mesh so far falls short, the domain meshed again with
+/// each variant of `retry_bound/3` that applies (`retry_needs/2`), none
+/// on a domain with an input corner under `bound(retry_sharpest_corner,
+/// _)`: the best mesh then, the retries' time, and whether a retry's mesh
+/// is the one kept. What each gave goes to `tried`; `retried` is set
+/// where they are made.
+pub(super) fn retry_where_short(
+    domain: &Domain,
+    short: Short,
+    settings: &crate::settings::Settings,
+    opts: &Options,
+    kb: &mut KnowledgeBase,
+    tried: &mut Vec<String>,
+    retried: &mut bool,
+) -> Result<(Option<(Score, MeshResult, String)>, f64, bool), Error> {
+    let Short {
+        free,
+        mut best,
+        score,
+        blocks_share,
+        coarse_boundary,
+        graded,
+    } = short;
+    if best.as_ref().map_or(score, |b| b.0).outside == 0 {
+        return Ok((best, 0.0, false));
+    }
+    let sharpest = sharpest_input_corner(free, domain);
+    let retry_above = settings.host.retry_sharpest_corner;
+    if sharpest < retry_above {
+        tried.push(format!(
+            "no retry: an input corner of {sharpest:.1} deg, under bound(retry_sharpest_corner, {retry_above}) (no element at it meets the taper bound)"
+        ));
+        return Ok((best, 0.0, false));
+    }
+    let fixed_counts = super::has_fixed_counts(domain);
+    let variants: Vec<_> = kb
+        .retry_variants()?
+        .into_iter()
+        .filter(|(_, _, needs)| {
+            needs.iter().all(|n| match n.as_str() {
+                "fixed_counts" => fixed_counts,
+                "coarse_boundary" => coarse_boundary,
+                "uniform" => !graded,
+                "graded" => graded,
+                "many_elements" => false,
+                _ => true,
+            })
+        })
+        .collect();
+    if variants.is_empty() {
+        return Ok((best, 0.0, false));
+    }
+    let user_files = kb.user_files().to_vec();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let started = std::time::Instant::now();
+    *retried = true;
+    let retries = retry_in_parallel(
+        domain,
+        &user_files,
+        opts,
+        settings,
+        blocks_share,
+        &variants,
+        cores,
+        fingerprint(free),
+    );
+    let mut retry_kept = false;
+    for (retried, said) in retries {
+        let so_far = best.as_ref().map_or(score, |b| b.0);
+        tried.extend(said);
+        if let Some(kept) = retried?.filter(|k| k.0 < so_far) {
+            best = Some(kept);
+            retry_kept = true;
+        }
+    }
+    Ok((best, started.elapsed().as_secs_f64(), retry_kept))
+}
 
 /// The retries of `variants`, as if made one after another in their
 /// order until the first within the bounds: that one and those before it,
@@ -101,6 +250,10 @@ fn retry_variant(
     let s = Score::of(&r, settings, domain);
     tried.push(format!("{said}: {}", s.words()));
     if s.outside == 0 {
+        return Ok(Some((s, r, format!("retry({variant})"))));
+    }
+    if share <= 0.0 {
+        // a graded run: blocks are uniform
         return Ok(Some((s, r, format!("retry({variant})"))));
     }
     if fingerprint(&r.mesh) == first_free {
