@@ -290,6 +290,10 @@ bound(blocks_over_free, 1.25).
 % size (0.5), that call a corner near horizontal within 0.2 (0.3). The
 % last three move the same thresholds at the size, on a run graded for a
 % coarse boundary (the graded ones move them graded).
+% gentler_grading, tried on a graded mesh only (retry_needs(V, graded)),
+% lets the size aimed for grow 0.4 times the distance from the boundary
+% (size_growth, 0.6): rows that grow more slowly leave the fronts less to
+% mend where they meet.
 %
 % ?- retry_bound(refine_fixed_counts, N, V).
 %    N = uniform_size_band, V = 1.5
@@ -304,6 +308,7 @@ retry_bound(refine_fixed_counts, coarse_boundary_grading, 0).
 retry_bound(no_sharp_front_corners, min_front_angle, 20).
 retry_bound(fronts_merge_nearer, near_node, 0.4).
 retry_bound(flatter_near_horizontal, near_horizontal, 0.2).
+retry_bound(gentler_grading, size_growth, 0.4).
 % A variant at the size: the variant it is of, without the grading.
 retry_bound(V, N, X) :-
     at_the_size(V, Of),
@@ -354,7 +359,8 @@ at_the_size(uniform_flatter_near_horizontal, flatter_near_horizontal).
 % the domain's area over the size squared: tried then whether or not the
 % mesh is within the bounds, never as a retry of one that falls short;
 % uniform, a run not graded by a max_size (none built in: every retry
-% that applies is tried on a graded mesh that falls short too).
+% that applies is tried on a graded mesh that falls short too); graded,
+% a run graded by a max_size.
 %
 % ?- retry_needs(V, fixed_counts).
 %    V = refine_fixed_counts.
@@ -365,3 +371,4 @@ retry_needs(V, many_elements) :-
 retry_needs(V, coarse_boundary) :-
     at_the_size(V, _).
 retry_needs(refine_fixed_counts, fixed_counts).
+retry_needs(gentler_grading, graded).
