@@ -367,7 +367,7 @@ fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
 /// `retry_needs(V, graded)`) is tried alone, and is within the bounds.
 #[test]
 fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
-    let text = std::fs::read_to_string("tests/inputs/graded-star-retried.json").unwrap();
+    let text = std::fs::read_to_string("tests/graded/star-retried.json").unwrap();
     let d = Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap();
     let opts = Options::default().with_trace(true);
     let mut kb = KnowledgeBase::builtin().unwrap();
