@@ -206,6 +206,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   meshed free too, and the free mesh kept where it is within the
 %   bounds and the blocks have more than this many times its elements
 %   (the trace's first step says so). 0: the blocks kept.
+% uniform_when_graded_short: a graded mesh (max_size) still outside the
+%   bounds after its retries is meshed again uniform at the size, as a
+%   run without max_size is (blocks, retries and all), and that mesh kept
+%   where it is within the bounds: it gives up the coarse interior, so
+%   only for one that meets every bound; the trace's first step says so.
+%   0: never.
 % boundary_slide: where an element is still past the bounds after the
 %   clean-up, easing may slide a boundary node that lies inside an input
 %   edge along that edge, straight or arc (never an input vertex), at least
@@ -261,6 +267,7 @@ bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
 bound(coarser_when_over, 1.2).
 bound(blocks_over_free, 1.25).
+bound(uniform_when_graded_short, 1).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %

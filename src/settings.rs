@@ -296,6 +296,11 @@ pub struct HostBounds {
     /// times its elements (0: the blocks kept; see blocks/mod.rs,
     /// `choose_uniform_mesh`).
     pub blocks_over_free: f64,
+    /// `uniform_when_graded_short`: a graded mesh that falls short after
+    /// its retries is meshed again uniform at the size (blocks, retries
+    /// and all), and that mesh kept where it is within the bounds (0:
+    /// never; see blocks/retries.rs, `graded_with_retries`).
+    pub uniform_when_graded_short: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -333,13 +338,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 31] = [
+    pub const BUILT_IN: [f64; 32] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 31] = [
+    pub const NAMES: [&'static str; 32] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -371,13 +376,14 @@ impl HostBounds {
         "coarser_when_over",
         "fallback_pairs",
         "blocks_over_free",
+        "uniform_when_graded_short",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 31]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free] =
+    pub fn new(v: [f64; 32]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -407,6 +413,7 @@ impl HostBounds {
             (0.0, 180.0),
             (0.0, 2.0),
             (0.0, 180.0),
+            (0.0, f64::MAX),
             (0.0, f64::MAX),
             (0.0, f64::MAX),
             (0.0, f64::MAX),
@@ -453,6 +460,7 @@ impl HostBounds {
             coarser_when_over,
             fallback_pairs,
             blocks_over_free,
+            uniform_when_graded_short,
         })
     }
 }

@@ -19,7 +19,9 @@ type Retried = (
 
 /// A graded run's free mesh, or where it falls short the retry of
 /// `retry_bound/3` (meshed free: blocks are uniform) nearest the bounds,
-/// where it is nearer than the first.
+/// where it is nearer than the first; where that still falls short, the
+/// mesh without the `max_size` where it is within the bounds
+/// (`bound(uniform_when_graded_short, _)`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn graded_with_retries(
     domain: &Domain,
@@ -51,8 +53,8 @@ pub(super) fn graded_with_retries(
         retry_where_short(domain, short, settings, opts, kb, &mut tried, retried)?;
     // kept only nearer the bounds: a graded mesh's irregular nodes, the
     // uniform runs' tie-break, are many whichever way the fronts went
-    match best.filter(|b| b.0.weight < score.weight) {
-        Some((_, mut r, name)) => {
+    let (kept_score, kept, name) = match best.filter(|b| b.0.weight < score.weight) {
+        Some((s, mut r, name)) => {
             // the kept mesh's own stages are among the retries; the first
             // free mesh, not kept, is before them
             let ph = &mut r.phases;
@@ -62,12 +64,63 @@ pub(super) fn graded_with_retries(
                 + free.phases.smoothing
                 + free.phases.check;
             ph.retries = retries_time - own;
-            Ok(super::with_first_step(r, &name, tried))
+            (s, r, name)
         }
         None => {
             free.phases.retries = retries_time;
-            Ok(super::with_first_step(free, "free", tried))
+            (score, free, "free".to_string())
         }
+    };
+    // (not where an input corner is too sharp for any mesh: the retries'
+    // line says so)
+    let sharp = sharpest_input_corner(&kept.mesh, domain) < settings.host.retry_sharpest_corner;
+    if kept_score.outside > 0 && settings.host.uniform_when_graded_short > 0.0 && !sharp {
+        if let Some(u) = uniform_within_the_bounds(domain, kb, opts, settings, &mut tried)? {
+            return Ok(u);
+        }
+    }
+    Ok(super::with_first_step(kept, &name, tried))
+}
+
+/// The domain meshed as without a `max_size` (uniform at the size, but
+/// where coarse fixed counts grade it; blocks, retries and all), where
+/// that mesh is within the bounds: its trace's first step has `tried`
+/// before what it says itself, and its action in `uniform(..)`.
+fn uniform_within_the_bounds(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    settings: &crate::settings::Settings,
+    tried: &mut Vec<String>,
+) -> Result<Option<MeshResult>, Error> {
+    let words = format!(
+        "without max_size (bound(uniform_when_graded_short, {}))",
+        settings.host.uniform_when_graded_short
+    );
+    let mut ungraded = domain.clone();
+    ungraded.max_size = None;
+    let uniform = opts.clone().with_max_size(None);
+    let mut u = match super::mesh_free_then_blocks(&ungraded, None, kb, &uniform, &mut |_| {}) {
+        Ok(u) => u,
+        Err(e) => {
+            tried.push(format!("{words}: {e}"));
+            return Ok(None);
+        }
+    };
+    let s = Score::of(&u, settings, domain);
+    if s.outside > 0 {
+        tried.push(format!("{words}: {}: not kept", s.words()));
+        return Ok(None);
+    }
+    tried.push(format!("{words}: {}: kept", s.words()));
+    let tried = std::mem::take(tried);
+    match u.trace.first_mut().filter(|t| t.feature == "block") {
+        Some(first) => {
+            first.redesign.splice(0..0, tried);
+            first.action = format!("uniform({})", first.action);
+            Ok(Some(u))
+        }
+        None => Ok(Some(super::with_first_step(u, "uniform", tried))),
     }
 }
 
