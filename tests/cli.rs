@@ -1036,6 +1036,25 @@ fn signal(pid: u32, name: &str) {
     assert!(s.success());
 }
 
+/// Waits until a process is stopped or gone (its state in /proc: T, Z
+/// or X), at most a second.
+fn wait_until_stopped(pid: u32) {
+    for _ in 0..10_000 {
+        let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+            return;
+        };
+        // the state follows the command's name in parentheses
+        let state = stat
+            .rsplit(')')
+            .next()
+            .and_then(|r| r.split_whitespace().next());
+        if matches!(state, Some("T" | "t" | "Z" | "X")) {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_micros(100));
+    }
+}
+
 #[test]
 #[cfg(unix)]
 fn ctrl_c_while_writing_removes_the_temporaries() {
@@ -1047,7 +1066,7 @@ fn ctrl_c_while_writing_removes_the_temporaries() {
         .map(|n| dir.join(n))
         .collect();
     let mut caught = false;
-    for attempt in 0..5 {
+    for attempt in 0..20 {
         let mut args = vec![
             "mesh".to_string(),
             "../shared/bench/domains/plate-holes.json".into(),
@@ -1071,6 +1090,9 @@ fn ctrl_c_while_writing_removes_the_temporaries() {
         loop {
             if !temporaries_in(&dir).is_empty() {
                 signal(pid, "STOP");
+                // kill returns before the child has stopped: until it
+                // has, it may still put its outputs in place and exit 0
+                wait_until_stopped(pid);
                 if !temporaries_in(&dir).is_empty() {
                     caught = true;
                     signal(pid, "INT");
@@ -1096,7 +1118,7 @@ fn ctrl_c_while_writing_removes_the_temporaries() {
             std::fs::remove_file(entry.unwrap().path()).unwrap();
         }
     }
-    assert!(caught, "no run was caught writing in five attempts");
+    assert!(caught, "no run was caught writing in twenty attempts");
 }
 
 /// The README's text.
