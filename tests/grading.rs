@@ -65,6 +65,18 @@ fn area_share_coarser_than(r: &MeshResult, at: f64) -> f64 {
     coarse / all
 }
 
+/// A domain file.
+fn load(path: &str) -> Domain {
+    let text = std::fs::read_to_string(path).unwrap();
+    Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap()
+}
+
+/// The run `freemesh mesh` makes (blocks first, retries and all), traced.
+fn traced_run(kb: &mut KnowledgeBase, d: &Domain) -> MeshResult {
+    let opts = Options::default().with_trace(true);
+    mesh_free_then_blocks(d, None, kb, &opts, &mut |_| {}).unwrap()
+}
+
 /// Whether a mesh meets the paper's bounds as the judge has them.
 fn is_within(r: &MeshResult) -> bool {
     let q = &r.quality;
@@ -377,11 +389,8 @@ fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
 /// `retry_needs(V, graded)`) is tried alone, and is within the bounds.
 #[test]
 fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
-    let text = std::fs::read_to_string("tests/graded/star-retried.json").unwrap();
-    let d = Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap();
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let d = load("tests/graded/star-retried.json");
+    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
     within_the_bounds(&r, "graded star");
     let told = &r.trace[0].redesign;
     assert!(
@@ -400,7 +409,7 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
     // the three retries that moved a threshold kept to uniform runs,
     // the graded one alone is tried (retry_needs(gentler_grading, graded))
     let mut uniform_only = kb_with("tests/kb/uniform-retries-only.pl");
-    let r = mesh_free_then_blocks(&d, None, &mut uniform_only, &opts, &mut |_| {}).unwrap();
+    let r = traced_run(&mut uniform_only, &d);
     within_the_bounds(&r, "graded star, gentler grading");
     let told = &r.trace[0].redesign;
     assert_eq!(told.len(), 2, "{told:?}");
@@ -420,11 +429,8 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
 /// is kept, short as it is.
 #[test]
 fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
-    let text = std::fs::read_to_string("tests/graded/star-uniform.json").unwrap();
-    let d = Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap();
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let d = load("tests/graded/star-uniform.json");
+    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
     within_the_bounds(&r, "star without max_size");
     assert!(
         r.trace[0].action.starts_with("uniform("),
@@ -449,7 +455,7 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
     );
 
     let mut graded_only = kb_with("tests/kb/no-uniform-when-graded-short.pl");
-    let g = mesh_free_then_blocks(&d, None, &mut graded_only, &opts, &mut |_| {}).unwrap();
+    let g = traced_run(&mut graded_only, &d);
     assert!(!is_within(&g), "{:?}", g.quality);
     assert_eq!(g.trace[0].action, "free");
     assert!(

@@ -11,11 +11,12 @@ use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
 use crate::pipeline::{mesh_domain, Error, MeshResult, Options};
 
+/// The best mesh so far: its score, the mesh, and its action in the
+/// trace's first step.
+type Best = Option<(Score, MeshResult, String)>;
+
 /// What one retry gave, and its lines for the trace.
-type Retried = (
-    Result<Option<(Score, MeshResult, String)>, Error>,
-    Vec<String>,
-);
+type Retried = (Result<Best, Error>, Vec<String>);
 
 /// A graded run's free mesh, or where it falls short the retry of
 /// `retry_bound/3` (meshed free: blocks are uniform) nearest the bounds,
@@ -130,7 +131,7 @@ fn uniform_within_the_bounds(
 /// retried free only) and whether the run is graded for a coarse boundary.
 pub(super) struct Short<'a> {
     pub free: &'a crate::mesh::Mesh,
-    pub best: Option<(Score, MeshResult, String)>,
+    pub best: Best,
     pub score: Score,
     pub blocks_share: f64,
     pub coarse_boundary: bool,
@@ -153,7 +154,7 @@ pub(super) fn retry_where_short(
     kb: &mut KnowledgeBase,
     tried: &mut Vec<String>,
     retried: &mut bool,
-) -> Result<(Option<(Score, MeshResult, String)>, f64, bool), Error> {
+) -> Result<(Best, f64, bool), Error> {
     let Short {
         free,
         mut best,
@@ -290,7 +291,7 @@ fn retry_variant(
     bounds: &[(String, f64)],
     first_free: u64,
     tried: &mut Vec<String>,
-) -> Result<Option<(Score, MeshResult, String)>, Error> {
+) -> Result<Best, Error> {
     let said = format!("retry {variant} ({})", bound_words(bounds));
     let mut other = KnowledgeBase::with_bounds(user_files, bounds)?;
     let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
