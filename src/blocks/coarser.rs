@@ -92,6 +92,8 @@ pub(super) fn coarser_when_over(
         all_runs += this_run;
         let c = match run {
             Ok(c) => c.result,
+            // a rule at fault is the KB's error, not this variant's
+            Err(e @ Error::Kb(_)) => return Err(e),
             Err(e) => {
                 said.push(format!("coarser {variant} ({words}): {e}"));
                 continue;

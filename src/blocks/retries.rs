@@ -103,6 +103,8 @@ fn uniform_within_the_bounds(
     let uniform = opts.clone().with_max_size(None);
     let mut u = match super::mesh_free_then_blocks(&ungraded, None, kb, &uniform, &mut |_| {}) {
         Ok(u) => u,
+        // a rule at fault is the KB's error, as in the first run
+        Err(e @ Error::Kb(_)) => return Err(e),
         Err(e) => {
             tried.push(format!("{words}: {e}"));
             return Ok(None);
