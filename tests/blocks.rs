@@ -256,6 +256,43 @@ fn a_coarser_variant_with_a_retrys_threshold_is_kept_where_it_does_better() {
     );
 }
 
+/// A chamfered outline whose fixed counts make segments up to 3.6 times
+/// the size is graded for its coarse boundary: its area over the size
+/// squared asks for far more elements than its segments do, so the
+/// coarser pass measures the mesh by the boundary's mean segment length
+/// instead. Its first mesh (blocks within the bounds, 213 elements where
+/// Gmsh makes 98) is over that, and a coarser variant within the bounds
+/// with under half of them is kept.
+#[test]
+fn a_coarse_boundary_measures_many_elements_by_its_segments() {
+    let d = load("tests/counts/coarse-chamfer.json");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    within_the_bounds_below(&r, "coarse chamfer", 45.0);
+    let told = &r.trace[0].redesign;
+    assert!(
+        told.iter()
+            .any(|t| t.starts_with("no max_size, boundary segments up to")),
+        "{told:?}"
+    );
+    let over = told
+        .iter()
+        .find(|t| t.contains(" elements, over bound(coarser_when_over"))
+        .unwrap_or_else(|| panic!("no coarser pass: {told:?}"));
+    assert!(
+        over.contains("the area over the boundary's mean segment length squared"),
+        "{over}"
+    );
+    let first: usize = over.split(' ').next().unwrap().parse().unwrap();
+    assert!(r.trace[0].action.starts_with("coarser("), "{:?}", r.trace[0]);
+    let quads = r.mesh.quads().len();
+    assert!(2 * quads < first, "{quads} elements, the first run {first}");
+    // measured by the size, the same mesh is not over: no coarser pass
+    let asks = d.area() / (d.size() * d.size());
+    assert!((first as f64) < 1.2 * asks, "{first} against {asks:.0}");
+}
+
 #[test]
 fn a_layout_made_by_the_second_engine_gives_the_same_mesh_and_trace() {
     let d = load("../shared/bench/domains/fig1-polygon.json");

@@ -2,7 +2,9 @@
 //! run whose mesh has more than `bound(coarser_when_over, K)` times the
 //! domain's area over the size squared in elements (a small hole, a
 //! narrow part or fine fixed counts whose elements spread inward until
-//! the fronts meet) is meshed again with each variant of
+//! the fronts meet; a run graded for a coarse boundary, over the square
+//! of the boundary's mean segment length where that asks for fewer) is
+//! meshed again with each variant of
 //! `retry_needs(V, many_elements)` (its `retry_bound/3` bounds in place:
 //! the transitions then grow those elements back to the size), in their
 //! order until one is within the bounds with no more than K times those
@@ -31,10 +33,20 @@ pub(super) fn coarser_when_over(
         settings,
         graded,
         retried,
+        boundary_asks,
     } = run;
     let over = settings.host.coarser_when_over;
     let size = opts.size.unwrap_or(domain.size());
+    // a boundary coarser than the size asks for fewer: its segments'
+    // mean length over the area
     let area_count = domain.area() / (size * size);
+    let (area_count, asks_words) = match boundary_asks {
+        Some(asks) if asks < area_count => (
+            asks,
+            "the area over the boundary's mean segment length squared",
+        ),
+        _ => (area_count, "the domain's area over the size squared"),
+    };
     let count = r.mesh.quads.len();
     if over <= 0.0 || graded || (count as f64) <= over * area_count {
         return Ok(r);
@@ -48,7 +60,7 @@ pub(super) fn coarser_when_over(
         return Ok(r);
     }
     let mut said = vec![format!(
-        "{count} elements, over bound(coarser_when_over, {over}) times the domain's area over the size squared ({area_count:.0})"
+        "{count} elements, over bound(coarser_when_over, {over}) times {asks_words} ({area_count:.0})"
     )];
     let user_files = kb.user_files().to_vec();
     let mut kept = (Score::of(&r, &settings, domain), r, None);

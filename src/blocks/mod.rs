@@ -112,6 +112,9 @@ struct UniformRun {
     graded: bool,
     /// Whether its mesh fell short and the retries were made.
     retried: bool,
+    /// Where the run was graded for a coarse boundary, the elements its
+    /// segment lengths ask for (the size alone asks for more).
+    boundary_asks: Option<f64>,
 }
 
 /// Whether a uniform run meshes the domain again with the variants of
@@ -148,6 +151,9 @@ fn mesh_uniform_run(
     // graded by a coarse boundary only, the run is a uniform one's:
     // blocks, retries and all (the blocks follow the boundary's counts)
     let graded = prepared.is_graded() && !prepared.is_graded_for_coarse_boundary();
+    let boundary_asks = prepared
+        .is_graded_for_coarse_boundary()
+        .then(|| prepared.elements_the_boundary_asks());
     let mut retried = false;
     let result = choose_uniform_mesh(
         domain,
@@ -167,6 +173,7 @@ fn mesh_uniform_run(
         settings,
         graded,
         retried,
+        boundary_asks,
     })
 }
 
