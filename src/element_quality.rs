@@ -321,6 +321,21 @@ pub(crate) fn size_shape_excess(
     worst
 }
 
+/// The worst of the elements round a node by aspect ratio and taper, as
+/// a share of their bounds (at most 1 within them): the smoothing moves
+/// refuse to take it past the bounds, since a node slid onto its
+/// neighbour leaves an edge of nothing between two corners of 90, which
+/// the corners alone would welcome.
+pub(crate) fn shape_worst_around(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
+    around
+        .iter()
+        .map(|&(q, _)| {
+            let (aspect, taper) = aspect_taper(mesh.quad_points(q as usize));
+            (aspect / bounds.max_aspect).max(taper / bounds.max_taper)
+        })
+        .fold(0.0, f64::max)
+}
+
 pub(crate) fn quad_area(mesh: &Mesh, q: u32) -> f64 {
     crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs()
 }

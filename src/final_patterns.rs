@@ -38,6 +38,7 @@ pub fn try_close_loop(
     if n == 4 {
         let q = [p[0], p[1], p[2], p[3]];
         if convex_ok(&q)
+            && no_sliver_edge(pm, &q)
             && distinct(&ids)
             && quad_clear(
                 pm,
@@ -93,7 +94,9 @@ pub fn try_close_loop(
             }
         };
         let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
-        let clear = quads.iter().all(|qd| convex_ok(&qd.map(pt)))
+        let clear = quads
+            .iter()
+            .all(|qd| convex_ok(&qd.map(pt)) && no_sliver_edge(pm, &qd.map(pt)))
             && quads.iter().all(|qd| {
                 let qids: Vec<Option<u32>> = qd
                     .iter()
@@ -265,6 +268,14 @@ const ANGLE_NAMES: [&str; 40] = [
     "a16", "a17", "a18", "a19", "a20", "a21", "a22", "a23", "a24", "a25", "a26", "a27", "a28",
     "a29", "a30", "a31", "a32", "a33", "a34", "a35", "a36", "a37", "a38", "a39", "a40",
 ];
+
+/// Whether every edge of a closing element is at least a quarter of the
+/// run's shortest edge (`PartialMesh::min_edge`): two loop nodes at one
+/// place, or a centre put on a loop node, make an edge of nothing between
+/// two corners of 90, convex and in the window.
+fn no_sliver_edge(pm: &PartialMesh, q: &[DVec2; 4]) -> bool {
+    (0..4).all(|i| (q[(i + 1) % 4] - q[i]).length() >= pm.min_edge / 4.0)
+}
 
 /// The position of an inner node (index 6 in `quads`) that makes the
 /// elements convex with the largest smallest angle: `first` if it is good,

@@ -285,7 +285,11 @@ fn a_coarse_boundary_measures_many_elements_by_its_segments() {
         "{over}"
     );
     let first: usize = over.split(' ').next().unwrap().parse().unwrap();
-    assert!(r.trace[0].action.starts_with("coarser("), "{:?}", r.trace[0]);
+    assert!(
+        r.trace[0].action.starts_with("coarser("),
+        "{:?}",
+        r.trace[0]
+    );
     let quads = r.mesh.quads().len();
     assert!(2 * quads < first, "{quads} elements, the first run {first}");
     // measured by the size, the same mesh is not over: no coarser pass

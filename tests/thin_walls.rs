@@ -76,3 +76,33 @@ fn a_thick_tube_and_a_channels_short_ends_are_left_alone() {
         "{q:?}"
     );
 }
+
+/// A V-shaped wall one segment thick whose sides have unequal fixed
+/// counts (8 against 25 segments along one leg, 6 against 7 along the
+/// other; a random domain of the wall family): the elements where the
+/// counts change are closed by six-segment patterns, and smoothing once
+/// slid their centre node onto a boundary node, an edge of 0.004 beside
+/// edges of 24 between two corners of 90 (taper 6,424: convex, every
+/// corner in the window). Smoothing no longer takes an element's aspect
+/// or taper past the bounds for a corner, nor a closing pattern puts an
+/// edge of nothing.
+#[test]
+fn smoothing_does_not_slide_a_node_onto_its_neighbour_in_a_thin_wall() {
+    let d = Domain::from_json_str(
+        &std::fs::read_to_string("tests/walls/v-wall-unequal-counts.json").unwrap(),
+    )
+    .unwrap();
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = freemesh::mesh_free_then_blocks(&d, None, &mut kb, &Options::default(), &mut |_| {})
+        .unwrap();
+    let q = &r.quality;
+    assert!(q.max_taper < 20.0 && q.max_aspect < 20.0, "{q:?}");
+    let shortest = r
+        .mesh
+        .quads()
+        .iter()
+        .flat_map(|e| (0..4).map(move |i| (e[i], e[(i + 1) % 4])))
+        .map(|(a, b)| (r.mesh.nodes()[a as usize] - r.mesh.nodes()[b as usize]).length())
+        .fold(f64::INFINITY, f64::min);
+    assert!(shortest > 0.05 * d.size(), "shortest edge {shortest}");
+}

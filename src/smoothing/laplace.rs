@@ -2,12 +2,13 @@
 //!
 //! Each free node moves to the mean, over the elements round it, of its two
 //! neighbours in each element: X_i = 1/(2 N_i) Σ (X_nj + X_ni). A move is
-//! kept only if every element round the node stays convex and its worst
-//! corner gets no worse than a bound; input boundary nodes never move.
+//! kept only if every element round the node stays convex, its worst
+//! corner gets no worse than a bound and its aspect and taper do not
+//! leave theirs; input boundary nodes never move.
 
 use glam::DVec2;
 
-use crate::element_quality::badness_of;
+use crate::element_quality::{badness_of, shape_worst_around};
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
@@ -49,6 +50,8 @@ pub(crate) fn laplace_sweeps(
                 .iter()
                 .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
                 .fold(0.0, f64::max);
+            // nor the shapes past their bounds (or further past them)
+            let shape_allowed = shape_worst_around(mesh, &around[n], bounds).max(1.0) + 1e-9;
             // try the full move, then half of it
             for t in [1.0, 0.5] {
                 mesh.nodes[n] = old + (target - old) * t;
@@ -56,7 +59,10 @@ pub(crate) fn laplace_sweeps(
                     .iter()
                     .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
                     .fold(0.0, f64::max);
-                if after.is_finite() && after <= before.max(0.0) + 1e-9 {
+                if after.is_finite()
+                    && after <= before.max(0.0) + 1e-9
+                    && shape_worst_around(mesh, &around[n], bounds) <= shape_allowed
+                {
                     kept += 1;
                     mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
                     // after half a move the target is still ahead

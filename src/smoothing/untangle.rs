@@ -1,8 +1,8 @@
 //! Untangling: each free node next to an element with a corner outside
 //! the window (`bound/2`'s lower and upper corner) moves, by a compass search, to where the worst corner round
-//! it is best.
+//! it is best, no element's aspect or taper taken past its bound.
 
-use crate::element_quality::{corners_fine, worst_around, worst_around_under};
+use crate::element_quality::{corners_fine, shape_worst_around, worst_around, worst_around_under};
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 use crate::smoothing::compass::compass_search;
@@ -32,12 +32,17 @@ pub(crate) fn untangle_sweeps(
                 continue; // every corner round it is fine
             }
             let old = mesh.nodes[n];
+            // no corner bought with a shape past the bounds
+            let shape_allowed = shape_worst_around(mesh, &around[n], bounds).max(1.0) + 1e-9;
             let best = compass_search(
                 mesh,
                 n,
                 &around[n],
                 start,
-                |m, best| worst_around_under(m, &around[n], best, bounds),
+                |m, best| {
+                    worst_around_under(m, &around[n], best, bounds)
+                        .filter(|_| shape_worst_around(m, &around[n], bounds) <= shape_allowed)
+                },
                 |w, best| w < best,
             );
             mesh.nodes[n] = best;
