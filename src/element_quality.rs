@@ -321,6 +321,21 @@ pub(crate) fn size_shape_excess(
     worst
 }
 
+/// Whether element `q` has a corner sharper than the window's lower
+/// corner at an input node.
+fn at_sharp_input_corner(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> bool {
+    let quad = mesh.quads[q];
+    let p = mesh.quad_points(q);
+    (0..4).any(|i| {
+        let a = p[(i + 1) % 4] - p[i];
+        let b = p[(i + 3) % 4] - p[i];
+        let d = a.dot(b);
+        mesh.kinds[quad[i] as usize] == NodeKind::Boundary
+            && d > 0.0
+            && d * d > bounds.cos2_lower * a.length_squared() * b.length_squared()
+    })
+}
+
 /// The worst of the elements round a node by aspect ratio and taper, as
 /// a share of their bounds (at most 1 within them): the smoothing moves
 /// refuse to take it past the bounds, since a node slid onto its
@@ -329,6 +344,9 @@ pub(crate) fn size_shape_excess(
 pub(crate) fn shape_worst_around(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
     around
         .iter()
+        // an element at an input corner sharper than the window has the
+        // taper the corner's wedge gives it
+        .filter(|&&(q, _)| !at_sharp_input_corner(mesh, q as usize, bounds))
         .map(|&(q, _)| {
             let (aspect, taper) = aspect_taper(mesh.quad_points(q as usize));
             (aspect / bounds.max_aspect).max(taper / bounds.max_taper)

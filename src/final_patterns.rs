@@ -38,7 +38,7 @@ pub fn try_close_loop(
     if n == 4 {
         let q = [p[0], p[1], p[2], p[3]];
         if convex_ok(&q)
-            && no_sliver_edge(pm, &q)
+            && no_sliver_edge(&q)
             && distinct(&ids)
             && quad_clear(
                 pm,
@@ -96,7 +96,7 @@ pub fn try_close_loop(
         let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
         let clear = quads
             .iter()
-            .all(|qd| convex_ok(&qd.map(pt)) && no_sliver_edge(pm, &qd.map(pt)))
+            .all(|qd| convex_ok(&qd.map(pt)) && no_sliver_edge(&qd.map(pt)))
             && quads.iter().all(|qd| {
                 let qids: Vec<Option<u32>> = qd
                     .iter()
@@ -269,13 +269,20 @@ const ANGLE_NAMES: [&str; 40] = [
     "a29", "a30", "a31", "a32", "a33", "a34", "a35", "a36", "a37", "a38", "a39", "a40",
 ];
 
-/// Whether every edge of a closing element is at least a quarter of the
-/// run's shortest edge (`PartialMesh::min_edge`): two loop nodes at one
-/// place, or a centre put on a loop node, make an edge of nothing between
-/// two corners of 90, convex and in the window.
-fn no_sliver_edge(pm: &PartialMesh, q: &[DVec2; 4]) -> bool {
-    (0..4).all(|i| (q[(i + 1) % 4] - q[i]).length() >= pm.min_edge / 4.0)
+/// Whether every edge of a closing element is at least a hundredth of its
+/// longest: two loop nodes at one place, or a centre put on a loop node,
+/// make an edge of nothing between two corners of 90, convex and in the
+/// window (the sides across a sharp tip taken whole are shorter than the
+/// others, but not a hundred times).
+fn no_sliver_edge(q: &[DVec2; 4]) -> bool {
+    let e: [f64; 4] = std::array::from_fn(|i| (q[(i + 1) % 4] - q[i]).length());
+    let longest = e.iter().copied().fold(0.0, f64::max);
+    e.iter().all(|&l| l * SLIVER_EDGE > longest)
 }
+
+/// How many times shorter than an element's longest edge its shortest
+/// may be in a closing pattern.
+const SLIVER_EDGE: f64 = 100.0;
 
 /// The position of an inner node (index 6 in `quads`) that makes the
 /// elements convex with the largest smallest angle: `first` if it is good,
