@@ -321,6 +321,26 @@ pub(crate) fn size_shape_excess(
     worst
 }
 
+/// Whether every element round a node is clearly within the aspect and
+/// taper bounds (a thousandth inside them), told from squared lengths:
+/// the cheap test before `shape_worst_around`.
+pub(crate) fn shapes_clearly_within(
+    mesh: &Mesh,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+) -> bool {
+    let t2 = (bounds.max_taper * (1.0 - 1e-3)).powi(2);
+    let a2 = (bounds.max_aspect * (1.0 - 1e-3)).powi(2);
+    around.iter().all(|&(q, _)| {
+        let p = mesh.quad_points(q as usize);
+        let e: [f64; 4] = std::array::from_fn(|i| (p[(i + 1) % 4] - p[i]).length_squared());
+        let m02 = ((p[0] + p[1]) - (p[2] + p[3])).length_squared();
+        let m13 = ((p[1] + p[2]) - (p[3] + p[0])).length_squared();
+        let within = |x: f64, y: f64, k2: f64| x <= k2 * y && y <= k2 * x;
+        within(e[0], e[2], t2) && within(e[1], e[3], t2) && within(m02, m13, a2)
+    })
+}
+
 /// Whether element `q` has a corner sharper than the window's lower
 /// corner at an input node.
 fn at_sharp_input_corner(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> bool {

@@ -8,7 +8,7 @@
 
 use glam::DVec2;
 
-use crate::element_quality::{badness_of, shape_worst_around};
+use crate::element_quality::{badness_of, shape_worst_around, shapes_clearly_within};
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
@@ -50,8 +50,6 @@ pub(crate) fn laplace_sweeps(
                 .iter()
                 .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
                 .fold(0.0, f64::max);
-            // nor the shapes past their bounds (or further past them)
-            let shape_allowed = shape_worst_around(mesh, &around[n], bounds).max(1.0) + 1e-9;
             // try the full move, then half of it
             for t in [1.0, 0.5] {
                 mesh.nodes[n] = old + (target - old) * t;
@@ -61,7 +59,7 @@ pub(crate) fn laplace_sweeps(
                     .fold(0.0, f64::max);
                 if after.is_finite()
                     && after <= before.max(0.0) + 1e-9
-                    && shape_worst_around(mesh, &around[n], bounds) <= shape_allowed
+                    && shapes_allowed(mesh, n, old, &around[n], bounds)
                 {
                     kept += 1;
                     mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
@@ -74,4 +72,25 @@ pub(crate) fn laplace_sweeps(
         }
     }
     kept
+}
+
+/// Whether node `n`, moved from `old`, leaves the shapes of its elements
+/// within the aspect and taper bounds, or no further past them than they
+/// were: the plain test first, as most moves pass it.
+fn shapes_allowed(
+    mesh: &mut Mesh,
+    n: usize,
+    old: DVec2,
+    around: &[(u32, u8)],
+    bounds: &ElementBounds,
+) -> bool {
+    if shapes_clearly_within(mesh, around, bounds) {
+        return true;
+    }
+    let after = shape_worst_around(mesh, around, bounds);
+    let moved = mesh.nodes[n];
+    mesh.nodes[n] = old;
+    let before = shape_worst_around(mesh, around, bounds);
+    mesh.nodes[n] = moved;
+    after <= before.max(1.0) + 1e-9
 }
