@@ -302,8 +302,7 @@ fn a_coarse_boundary_measures_many_elements_by_its_segments() {
     // coarser_fine_features alone (coarser_with/2)
     let kept = told
         .iter()
-        .filter(|t| t.starts_with("coarser coarser_") && t.ends_with(": kept"))
-        .next_back()
+        .rfind(|t| t.starts_with("coarser coarser_") && t.ends_with(": kept"))
         .unwrap_or_else(|| panic!("{told:?}"));
     assert!(kept.contains(" 0 elements out of bounds"), "{told:?}");
     let variant = kept.split(' ').nth(1).unwrap();
