@@ -75,15 +75,16 @@ pub(crate) fn fixed_tips(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> [bool
         return NO_TIPS;
     }
     let p = mesh.quad_points(q);
-    std::array::from_fn(|i| {
-        if !(fixed(i) && fixed(i + 1) && fixed(i + 3)) {
-            return false;
-        }
-        let a = p[(i + 1) % 4] - p[i];
-        let b = p[(i + 3) % 4] - p[i];
-        let d = a.dot(b);
-        d > 0.0 && d * d > bounds.cos2_lower * a.length_squared() * b.length_squared()
-    })
+    std::array::from_fn(|i| fixed(i) && fixed(i + 1) && fixed(i + 3) && under_window(&p, i, bounds))
+}
+
+/// Whether corner `i` of an element is sharper than the window's lower
+/// corner (told without trigonometry).
+fn under_window(p: &[DVec2; 4], i: usize, bounds: &ElementBounds) -> bool {
+    let a = p[(i + 1) % 4] - p[i];
+    let b = p[(i + 3) % 4] - p[i];
+    let d = a.dot(b);
+    d > 0.0 && d * d > bounds.cos2_lower * a.length_squared() * b.length_squared()
 }
 
 /// `badness` of element `q` of a mesh, its fixed tips left out.
@@ -346,14 +347,8 @@ pub(crate) fn shapes_clearly_within(
 fn at_sharp_input_corner(mesh: &Mesh, q: usize, bounds: &ElementBounds) -> bool {
     let quad = mesh.quads[q];
     let p = mesh.quad_points(q);
-    (0..4).any(|i| {
-        let a = p[(i + 1) % 4] - p[i];
-        let b = p[(i + 3) % 4] - p[i];
-        let d = a.dot(b);
-        mesh.kinds[quad[i] as usize] == NodeKind::Boundary
-            && d > 0.0
-            && d * d > bounds.cos2_lower * a.length_squared() * b.length_squared()
-    })
+    (0..4)
+        .any(|i| mesh.kinds[quad[i] as usize] == NodeKind::Boundary && under_window(&p, i, bounds))
 }
 
 /// The worst of the elements round a node by aspect ratio and taper, as

@@ -94,16 +94,16 @@ pub fn try_close_loop(
             }
         };
         let pt = |i: usize| if i < 6 { p[i] } else { new_pts[i - 6] };
-        let clear = quads
-            .iter()
-            .all(|qd| convex_ok(&qd.map(pt)) && no_sliver_edge(&qd.map(pt)))
-            && quads.iter().all(|qd| {
-                let qids: Vec<Option<u32>> = qd
-                    .iter()
-                    .map(|&i| if i < 6 { Some(ids[i]) } else { None })
-                    .collect();
-                quad_clear(pm, qd.map(pt), &qids, 0.0)
-            });
+        let clear = quads.iter().all(|qd| {
+            let q = qd.map(pt);
+            convex_ok(&q) && no_sliver_edge(&q)
+        }) && quads.iter().all(|qd| {
+            let qids: Vec<Option<u32>> = qd
+                .iter()
+                .map(|&i| if i < 6 { Some(ids[i]) } else { None })
+                .collect();
+            quad_clear(pm, qd.map(pt), &qids, 0.0)
+        });
         if !clear {
             continue;
         }

@@ -212,6 +212,14 @@ pub struct Phases {
     pub coarser: f64,
 }
 
+impl Phases {
+    /// The run's own stages: prepare, recursion, smoothing and check
+    /// (not the other meshes made to choose it).
+    pub fn own(&self) -> f64 {
+        self.prepare + self.recursion + self.smoothing + self.check
+    }
+}
+
 /// A domain's boundary made ready for a run: discretised, the cutting
 /// lines drawn, the area it encloses. The part of a run that needs no
 /// knowledge base, so it can be done while the engine loads.

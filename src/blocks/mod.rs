@@ -304,7 +304,7 @@ fn choose_uniform_mesh(
     match best {
         Some((_, mut r, name)) => {
             let ph = &mut r.phases;
-            let own = ph.prepare + ph.recursion + ph.smoothing + ph.check;
+            let own = ph.own();
             let before_retries = started.elapsed().as_secs_f64() - retries_time;
             if retry_kept {
                 // the kept mesh's own stages are among the retries
@@ -319,12 +319,7 @@ fn choose_uniform_mesh(
         }
         None => {
             // the blocks', before the free mesh and after it
-            free.phases.blocks = started.elapsed().as_secs_f64()
-                - retries_time
-                - (free.phases.prepare
-                    + free.phases.recursion
-                    + free.phases.smoothing
-                    + free.phases.check);
+            free.phases.blocks = started.elapsed().as_secs_f64() - retries_time - free.phases.own();
             free.phases.retries = retries_time;
             Ok(with_first_step(free, "free", tried))
         }

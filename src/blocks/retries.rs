@@ -59,12 +59,8 @@ pub(super) fn graded_with_retries(
             // the kept mesh's own stages are among the retries; the first
             // free mesh, not kept, is before them
             let ph = &mut r.phases;
-            let own = ph.prepare + ph.recursion + ph.smoothing + ph.check;
-            ph.blocks = free.phases.prepare
-                + free.phases.recursion
-                + free.phases.smoothing
-                + free.phases.check;
-            ph.retries = retries_time - own;
+            ph.retries = retries_time - ph.own();
+            ph.blocks = free.phases.own();
             (s, r, name)
         }
         None => {
@@ -305,11 +301,9 @@ fn retry_variant(
     };
     let s = Score::of(&r, settings, domain);
     tried.push(format!("{said}: {}", s.words()));
-    if s.outside == 0 {
-        return Ok(Some((s, r, format!("retry({variant})"))));
-    }
-    if share <= 0.0 {
-        // a graded run: blocks are uniform
+    // within the bounds, or no blocks to try (share 0: a graded run,
+    // blocks are uniform)
+    if s.outside == 0 || share <= 0.0 {
         return Ok(Some((s, r, format!("retry({variant})"))));
     }
     if fingerprint(&r.mesh) == first_free {
