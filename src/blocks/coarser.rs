@@ -62,7 +62,6 @@ pub(super) fn coarser_when_over(
     let mut said = vec![format!(
         "{count} elements, over bound(coarser_when_over, {over}) times {asks_words} ({area_count:.0})"
     )];
-    let user_files = kb.user_files().to_vec();
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     // the runs' times: all of them, and the kept one's
     let (mut all_runs, mut kept_run) = (first_run, first_run);
@@ -79,27 +78,22 @@ pub(super) fn coarser_when_over(
         }
         let started = std::time::Instant::now();
         let words = bound_words(bounds);
-        // a second engine with the same bounds where the first run had
-        // one (it makes the finest layout while this one makes the others)
-        let second = kb.has_second_engine().then(|| {
-            KnowledgeBase::second_engine_loading_with_bounds(user_files.clone(), bounds.clone())
-        });
-        let mut other = KnowledgeBase::with_bounds(&user_files, bounds)?;
-        if let Some(second) = second {
-            other.take_second_engine(second);
-        }
-        let run = mesh_uniform_run(
-            domain,
-            None,
-            &mut other,
-            opts,
-            if retried {
-                Retries::LeftToTheFirstRun
-            } else {
-                Retries::Tried
-            },
-            &mut |_| {},
-        );
+        // this engine, the variant's bounds in place (a new engine would
+        // answer the same and take longer to build than a small run)
+        let run = kb.with_bounds_in_place(bounds, |kb| {
+            mesh_uniform_run(
+                domain,
+                None,
+                kb,
+                opts,
+                if retried {
+                    Retries::LeftToTheFirstRun
+                } else {
+                    Retries::Tried
+                },
+                &mut |_| {},
+            )
+        })?;
         let this_run = started.elapsed().as_secs_f64();
         all_runs += this_run;
         let c = match run {

@@ -434,6 +434,35 @@ impl KnowledgeBase {
         self.second.as_ref().and_then(SecondEngine::is_ready) == Some(true)
     }
 
+    /// Runs `change` (a query that sets or restores bounds) here and on
+    /// the second engine, in its turn among the work handed to it; the
+    /// answers memoised are dropped on both. A second engine on which it
+    /// fails stops: it would no longer answer as this one does.
+    pub(super) fn change_bounds(&mut self, change: &str) -> Result<(), KbError> {
+        self.apply_bounds(change)?;
+        if let Some(second) = &self.second {
+            let change = change.to_string();
+            second.change(move |engine| {
+                engine
+                    .as_any()
+                    .downcast_mut::<KnowledgeBase>()
+                    .is_some_and(|kb| kb.apply_bounds(&change).is_ok())
+            });
+        }
+        Ok(())
+    }
+
+    fn apply_bounds(&mut self, change: &str) -> Result<(), KbError> {
+        self.cache.clear();
+        if self.run(change)?.is_empty() {
+            return Err(KbError::Query {
+                query: change.split('(').next().unwrap_or(change).to_string(),
+                error: "false (it did not hold)".into(),
+            });
+        }
+        Ok(())
+    }
+
     /// `ask_bounded_fresh` for each question, in order. A batch of
     /// `SPLIT_FROM` or more is shared with the second engine when there
     /// is one and it is ready: both take questions in turn.
@@ -652,6 +681,46 @@ mod tests {
             kb.stats.second_engine_queries,
             before.second_engine_queries + 1
         );
+    }
+
+    #[test]
+    fn bounds_in_place_are_what_both_engines_answer_and_go_back_after() {
+        const BAND: &str = "bound(uniform_size_band, V).";
+        let all_bounds = |kb: &mut KnowledgeBase| -> Vec<String> {
+            kb.run("bound(N, V).")
+                .unwrap()
+                .iter()
+                .map(|b| format!("{}={}", term_text(&b["N"]), term_text(&b["V"])))
+                .collect()
+        };
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        kb.start_second_engine();
+        assert!(kb.wait_for_second_engine(std::time::Duration::from_secs(60)));
+        let before = all_bounds(&mut kb);
+        // memoised here, so a memo kept past the change would show
+        let band = kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t));
+        assert_ne!(band.as_deref(), Some("1.75"));
+        let (here, there) = kb
+            .with_bounds_in_place(&[("uniform_size_band".to_string(), 1.75)], |kb| {
+                let here = kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t));
+                let rx = kb
+                    .on_second_engine(|kb| kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t)))
+                    .expect("a ready second engine takes the task");
+                (here, kb.take_from_second_engine(rx).flatten())
+            })
+            .unwrap();
+        assert_eq!(here.as_deref(), Some("1.75"));
+        assert_eq!(there.as_deref(), Some("1.75"));
+        // every bound back, in its order, on both engines
+        assert_eq!(all_bounds(&mut kb), before);
+        assert_eq!(
+            kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t)),
+            band
+        );
+        let rx = kb
+            .on_second_engine(|kb| kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t)))
+            .unwrap();
+        assert_eq!(kb.take_from_second_engine(rx).flatten(), band);
     }
 
     #[test]

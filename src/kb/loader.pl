@@ -154,3 +154,37 @@ fm_redesign_culprit_(Ctx, A, Rels, Rule) :-
     ),
     !.
 fm_redesign_culprit_(_, _, _, redesign).
+
+/* Host support: a variant's bounds in place for a run of its own on
+this engine, and every bound as it was after it (the coarser pass). */
+
+:- dynamic(fm_saved_bounds_/1).
+
+%% fm_bounds_push(+Pairs)
+%
+% Saves the bound/2 clauses, then sets bound(N, V) for each N-V of Pairs
+% in place of the bound of that name.
+fm_bounds_push(Pairs) :-
+    findall((bound(N, V) :- B), clause(bound(N, V), B), Saved),
+    asserta(fm_saved_bounds_(Saved)),
+    fm_bounds_set_(Pairs).
+
+fm_bounds_set_([]).
+fm_bounds_set_([N-V | Pairs]) :-
+    retractall(bound(N, _)),
+    assertz(bound(N, V)),
+    fm_bounds_set_(Pairs).
+
+%% fm_bounds_pop
+%
+% The bound/2 clauses as the last fm_bounds_push found them, in order.
+fm_bounds_pop :-
+    retract(fm_saved_bounds_(Saved)),
+    !,
+    retractall(bound(_, _)),
+    fm_assert_all_(Saved).
+
+fm_assert_all_([]).
+fm_assert_all_([C | Cs]) :-
+    assertz(C),
+    fm_assert_all_(Cs).

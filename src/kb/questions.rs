@@ -99,6 +99,22 @@ impl KnowledgeBase {
         Ok(kb)
     }
 
+    /// `f` run on this engine with `bounds` in place of the bounds of
+    /// those names, every bound put back after: it answers as an engine
+    /// built by `with_bounds` would (the memo dropped before and after,
+    /// a second engine given the same bounds), without the time a new
+    /// engine takes to build (the coarser pass's variants, one by one).
+    pub fn with_bounds_in_place<R>(
+        &mut self,
+        bounds: &[(String, f64)],
+        f: impl FnOnce(&mut KnowledgeBase) -> R,
+    ) -> Result<R, KbError> {
+        self.change_bounds(&terms::push_bounds_question(bounds))?;
+        let r = f(self);
+        self.change_bounds(terms::POP_BOUNDS)?;
+        Ok(r)
+    }
+
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {
         let t = self.first_binding(&terms::bound_question(name), "V")?;
         terms::bound_answer(name, t)

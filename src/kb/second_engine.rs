@@ -37,8 +37,9 @@ pub trait Answerer {
     fn as_any(&mut self) -> &mut dyn std::any::Any;
 }
 
-/// A whole piece of work for the second engine (it gets the engine).
-pub type Task = Box<dyn FnOnce(&mut dyn Answerer) + Send>;
+/// A whole piece of work for the second engine (it gets the engine);
+/// false stops the engine (it can no longer answer as the first would).
+pub type Task = Box<dyn FnOnce(&mut dyn Answerer) -> bool + Send>;
 
 /// What the second engine's thread is handed.
 enum Job {
@@ -181,9 +182,17 @@ impl SecondEngine {
         let (tx, rx) = mpsc::channel();
         let job = Job::Task(Box::new(move |kb| {
             let _ = tx.send(task(kb));
+            true
         }));
         let _ = self.jobs.send(job);
         rx
+    }
+
+    /// Hands `task` to the second engine after the work handed before it
+    /// and before any handed after; where it answers false, the engine
+    /// stops (and the first answers alone from then on).
+    pub fn change(&self, task: impl FnOnce(&mut dyn Answerer) -> bool + Send + 'static) {
+        let _ = self.jobs.send(Job::Task(Box::new(task)));
     }
 }
 
@@ -220,7 +229,11 @@ fn serve(
                     .fetch_add(t0.elapsed().as_nanos() as u64, Ordering::SeqCst);
             }
             // (a task's questions are counted by the task itself)
-            Job::Task(task) => task(kb.as_mut()),
+            Job::Task(task) => {
+                if !task(kb.as_mut()) {
+                    return;
+                }
+            }
         }
         last = Instant::now();
     }

@@ -661,6 +661,19 @@ pub(super) fn set_bound_question(name: &str, value: f64) -> String {
     )
 }
 
+/// Sets `bounds` in place of the bounds of those names, the bounds
+/// before saved (`fm_bounds_push/1` of the loader).
+pub(super) fn push_bounds_question(bounds: &[(String, f64)]) -> String {
+    let pairs: Vec<String> = bounds
+        .iter()
+        .map(|(name, value)| format!("{name}-{}", fmt_float(*value)))
+        .collect();
+    format!("fm_bounds_push([{}]).", pairs.join(", "))
+}
+
+/// Every bound as the last `push_bounds_question` found it.
+pub(super) const POP_BOUNDS: &str = "fm_bounds_pop.";
+
 /// Takes the mark back: a user's rules may come in, bound every question.
 pub(super) const NOT_ONLY_BUILT_IN_RULES: &str = "retractall(fm_only_built_in_rules_).";
 
