@@ -198,6 +198,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   retry_needs(V, many_elements), its retry_bound/3 bounds in place;
 %   that mesh is kept where it is nearer the bounds, or as near with
 %   fewer elements, and the trace's first step says so. 0: never.
+% coarser_after_four_sided: a uniform mesh made in four-sided patches
+%   (laid from the boundary's segment counts alone, no rule read) is
+%   meshed again coarser too only where this is above 0: on 20 such
+%   meshes of the random families with more elements than
+%   coarser_when_over asks, no variant was kept, and the four runs cost
+%   three times the first (README, "Speed and memory").
 % blocks_over_free: blocks within the bounds are kept without a free
 %   mesh unless they have more than this many times the elements the
 %   boundary's segment lengths ask for (the area over their mean length
@@ -268,6 +274,7 @@ bound(boundary_slide, 0.2).
 bound(coarser_when_over, 1.2).
 bound(blocks_over_free, 1.25).
 bound(uniform_when_graded_short, 1).
+bound(coarser_after_four_sided, 0).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %

@@ -301,6 +301,11 @@ pub struct HostBounds {
     /// and all), and that mesh kept where it is within the bounds (0:
     /// never; see blocks/retries.rs, `graded_with_retries`).
     pub uniform_when_graded_short: f64,
+    /// `coarser_after_four_sided`: where a uniform run's mesh is the
+    /// four-sided patches (laid from the boundary's counts alone, no rule
+    /// read), the coarser pass is made too only where this is above 0
+    /// (see blocks/coarser.rs).
+    pub coarser_after_four_sided: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -338,13 +343,13 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 32] = [
+    pub const BUILT_IN: [f64; 33] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
-        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0,
+        2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0, 0.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 32] = [
+    pub const NAMES: [&'static str; 33] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -377,13 +382,14 @@ impl HostBounds {
         "fallback_pairs",
         "blocks_over_free",
         "uniform_when_graded_short",
+        "coarser_after_four_sided",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 32]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short] =
+    pub fn new(v: [f64; 33]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -418,6 +424,7 @@ impl HostBounds {
             (0.0, f64::MAX),
             (0.0, f64::MAX),
             (0.0, f64::MAX),
+            (0.0, 2.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -461,6 +468,7 @@ impl HostBounds {
             fallback_pairs,
             blocks_over_free,
             uniform_when_graded_short,
+            coarser_after_four_sided,
         })
     }
 }

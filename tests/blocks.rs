@@ -315,6 +315,49 @@ fn a_coarse_boundary_measures_many_elements_by_its_segments() {
     assert!((first as f64) < 1.2 * asks, "{first} against {asks:.0}");
 }
 
+/// A four-sided domain with fixed counts, meshed in patches laid from
+/// those counts, has more elements than its segments ask for; the coarser
+/// variants' bounds are the rules', which the patches never read, so it
+/// is not meshed again, and the trace says so. With
+/// `bound(coarser_after_four_sided, 1)` the variants are tried, and the
+/// patches are still the mesh kept.
+#[test]
+fn four_sided_patches_are_not_meshed_again_coarser() {
+    let d = load("../shared/bench/domains/mapping-unequal.json");
+    let opts = Options::default().with_trace(true);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    assert!(
+        r.trace[0].action.starts_with("four_sided("),
+        "{}",
+        r.trace[0].action
+    );
+    let told = &r.trace[0].redesign;
+    assert!(
+        told.iter().any(|t| t.ends_with(
+            "made in four-sided patches from the boundary's counts: not meshed again coarser (bound(coarser_after_four_sided, 0))"
+        )),
+        "{told:?}"
+    );
+    assert!(
+        !told.iter().any(|t| t.starts_with("coarser coarser_")),
+        "{told:?}"
+    );
+    let mut tried = KnowledgeBase::builtin().unwrap();
+    tried
+        .consult_file("tests/kb/coarser-after-four-sided.pl")
+        .unwrap();
+    let t = mesh_free_then_blocks(&d, None, &mut tried, &opts, &mut |_| {}).unwrap();
+    let variants = t.trace[0]
+        .redesign
+        .iter()
+        .filter(|t| t.starts_with("coarser coarser_") && t.ends_with(": not kept"))
+        .count();
+    assert!(variants > 0, "{:?}", t.trace[0].redesign);
+    assert_eq!(t.mesh.quads(), r.mesh.quads());
+    assert_eq!(t.mesh.nodes(), r.mesh.nodes());
+}
+
 #[test]
 fn a_layout_made_by_the_second_engine_gives_the_same_mesh_and_trace() {
     let d = load("../shared/bench/domains/fig1-polygon.json");

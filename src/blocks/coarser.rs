@@ -51,6 +51,21 @@ pub(super) fn coarser_when_over(
     if over <= 0.0 || graded || (count as f64) <= over * area_count {
         return Ok(r);
     }
+    // the patches follow the boundary's counts alone: the variants'
+    // bounds, read by the rules, do not change them
+    let patches = r
+        .trace
+        .first()
+        .is_some_and(|t| t.by == By::Block && t.action.starts_with("four_sided("));
+    if patches && settings.host.coarser_after_four_sided <= 0.0 {
+        return Ok(tell_first(
+            r,
+            None,
+            vec![format!(
+                "{count} elements, over bound(coarser_when_over, {over}) times {asks_words} ({area_count:.0}); made in four-sided patches from the boundary's counts: not meshed again coarser (bound(coarser_after_four_sided, 0))"
+            )],
+        ));
+    }
     let variants: Vec<_> = kb
         .retry_variants()?
         .into_iter()
