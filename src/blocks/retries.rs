@@ -218,8 +218,9 @@ pub(super) fn retry_where_short(
 
 /// The retries of `variants`, as if made one after another in their
 /// order until the first within the bounds: that one and those before it,
-/// in order. Each meshes on an engine of its own, so as many run at once
-/// as there are cores, each core taking the next variant as it is free;
+/// in order. Each worker meshes on an engine of its own (built once, each
+/// variant's bounds set in place on it), so as many run at once as there
+/// are cores, each core taking the next variant as it is free;
 /// a variant after one found within the bounds is not begun, and one
 /// begun before is dropped, trace lines and all. A variant whose free
 /// mesh is the first run's (`first_free`, its fingerprint) is not tried
@@ -241,20 +242,41 @@ pub(super) fn retry_in_parallel(
     // the first variant found within the bounds (those after it are not needed)
     let within = AtomicUsize::new(usize::MAX);
     let done: Mutex<Vec<Option<Retried>>> = Mutex::new((0..variants.len()).map(|_| None).collect());
-    let work = || loop {
-        let i = next.fetch_add(1, Ordering::SeqCst);
-        if i >= variants.len() || i > within.load(Ordering::SeqCst) {
-            return;
+    let work = || {
+        // one engine a worker, built for its first variant, each variant's
+        // bounds set in place on it (as an engine built with them answers)
+        let mut engine: Option<KnowledgeBase> = None;
+        loop {
+            let i = next.fetch_add(1, Ordering::SeqCst);
+            if i >= variants.len() || i > within.load(Ordering::SeqCst) {
+                return;
+            }
+            let (variant, bounds, _) = &variants[i];
+            let mut said = Vec::new();
+            let r = match engine
+                .take()
+                .map_or_else(|| KnowledgeBase::with_user_files(user_files), Ok)
+            {
+                Ok(mut kb) => {
+                    let r = kb
+                        .with_bounds_in_place(bounds, |kb| {
+                            retry_variant(
+                                domain, kb, opts, settings, share, variant, bounds, first_free,
+                                &mut said,
+                            )
+                        })
+                        .map_err(Error::Kb)
+                        .and_then(|r| r);
+                    engine = Some(kb);
+                    r
+                }
+                Err(e) => Err(Error::Kb(e)),
+            };
+            if matches!(&r, Ok(Some((s, _, _))) if s.outside == 0) {
+                within.fetch_min(i, Ordering::SeqCst);
+            }
+            done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some((r, said));
         }
-        let (variant, bounds, _) = &variants[i];
-        let mut said = Vec::new();
-        let r = retry_variant(
-            domain, user_files, opts, settings, share, variant, bounds, first_free, &mut said,
-        );
-        if matches!(&r, Ok(Some((s, _, _))) if s.outside == 0) {
-            within.fetch_min(i, Ordering::SeqCst);
-        }
-        done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some((r, said));
     };
     std::thread::scope(|scope| {
         let helpers: Vec<_> = (1..workers.min(variants.len()))
@@ -281,7 +303,7 @@ pub(super) fn retry_in_parallel(
 #[allow(clippy::too_many_arguments)]
 fn retry_variant(
     domain: &Domain,
-    user_files: &[String],
+    other: &mut KnowledgeBase,
     opts: &Options,
     settings: &crate::settings::Settings,
     share: f64,
@@ -291,8 +313,7 @@ fn retry_variant(
     tried: &mut Vec<String>,
 ) -> Result<Best, Error> {
     let said = format!("retry {variant} ({})", bound_words(bounds));
-    let mut other = KnowledgeBase::with_bounds(user_files, bounds)?;
-    let r = match mesh_domain(domain, &mut other, opts, &mut |_| {}) {
+    let r = match mesh_domain(domain, other, opts, &mut |_| {}) {
         Ok(r) => r,
         Err(e) => {
             tried.push(format!("{said}: {e}"));
@@ -315,7 +336,7 @@ fn retry_variant(
     }
     let mut also = vec![];
     let before = other.stats;
-    let blocks = best_block_mesh(domain, &mut other, opts, settings, before, share, &mut also)?;
+    let blocks = best_block_mesh(domain, other, opts, settings, before, share, &mut also)?;
     tried.extend(also.into_iter().map(|t| format!("{said}: {t}")));
     Ok(Some(match blocks.filter(|(b, _, _)| *b < s) {
         Some((b, m, name)) => (b, m, format!("retry({variant}, {name})")),

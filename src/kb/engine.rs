@@ -342,18 +342,9 @@ impl KnowledgeBase {
     /// them): a caller with a core to spare builds it while the first
     /// engine loads, then hands it over with `take_second_engine`.
     pub fn second_engine_loading(user_files: Vec<String>) -> SecondEngineLoading {
-        Self::second_engine_loading_with_bounds(user_files, Vec::new())
-    }
-
-    /// `second_engine_loading` for an engine built by `with_bounds` (a
-    /// variant's `retry_bound/3` bounds in place).
-    pub fn second_engine_loading_with_bounds(
-        user_files: Vec<String>,
-        bounds: Vec<(String, f64)>,
-    ) -> SecondEngineLoading {
         // the engine is built on the thread that uses it (it cannot move)
         SecondEngineLoading(SecondEngine::start(move || {
-            let kb = KnowledgeBase::with_bounds(&user_files, &bounds).ok()?;
+            let kb = KnowledgeBase::with_user_files(&user_files).ok()?;
             Some(Box::new(kb) as Box<dyn Answerer>)
         }))
     }

@@ -85,23 +85,9 @@ impl KnowledgeBase {
         Ok(variants)
     }
 
-    /// A knowledge base of its own with the built-in rules, `user_files`
-    /// and `bounds` in place of the bounds of those names (built on the
-    /// thread that calls it, which alone may use it).
-    pub fn with_bounds(
-        user_files: &[String],
-        bounds: &[(String, f64)],
-    ) -> Result<KnowledgeBase, KbError> {
-        let mut kb = KnowledgeBase::with_user_files(user_files)?;
-        for (name, value) in bounds {
-            kb.run(&terms::set_bound_question(name, *value))?;
-        }
-        Ok(kb)
-    }
-
     /// `f` run on this engine with `bounds` in place of the bounds of
     /// those names, every bound put back after: it answers as an engine
-    /// built by `with_bounds` would (the memo dropped before and after,
+    /// built with them would (the memo dropped before and after,
     /// a second engine given the same bounds), without the time a new
     /// engine takes to build (the coarser pass's variants, one by one).
     pub fn with_bounds_in_place<R>(

@@ -653,14 +653,6 @@ pub(super) const RETRY_BOUND_QUESTION: &str = "retry_bound(V, N, X).";
 /// What a domain needs for a retry to be tried (strategy.pl).
 pub(super) const RETRY_NEEDS_QUESTION: &str = "retry_needs(V, W).";
 
-/// Replaces the bound `name` (bound/2 is dynamic) by `value`.
-pub(super) fn set_bound_question(name: &str, value: f64) -> String {
-    format!(
-        "retractall(bound({name}, _)), assertz(bound({name}, {})).",
-        fmt_float(value)
-    )
-}
-
 /// Sets `bounds` in place of the bounds of those names, the bounds
 /// before saved (`fm_bounds_push/1` of the loader).
 pub(super) fn push_bounds_question(bounds: &[(String, f64)]) -> String {
