@@ -201,9 +201,10 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 % coarser_after_four_sided: a uniform mesh made in four-sided patches
 %   (laid from the boundary's segment counts alone, no rule read) is
 %   meshed again coarser too only where this is above 0: on 20 such
-%   meshes of the random families with more elements than
-%   coarser_when_over asks, no variant was kept, and the four runs cost
-%   three times the first (README, "Speed and memory").
+%   meshes with more elements than coarser_when_over asks (18 of the
+%   random families, mapping-unequal, mapping-14-3-6-5) no variant was
+%   kept, and the variants' runs cost twice the first (README,
+%   "Robustness").
 % blocks_over_free: blocks within the bounds are kept without a free
 %   mesh unless they have more than this many times the elements the
 %   boundary's segment lengths ask for (the area over their mean length
