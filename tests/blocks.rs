@@ -23,6 +23,17 @@ fn in_blocks(kb: &mut KnowledgeBase, d: &Domain) -> MeshResult {
 
 /// Interior nodes (on no edge of one element only) where other than four
 /// elements meet, as the judge counts them.
+/// The domain meshed the uniform way (blocks first, free, the coarser
+/// pass), traced, on the built-in rules and `kb_files`.
+fn uniform_run(d: &Domain, kb_files: &[&str]) -> MeshResult {
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    for f in kb_files {
+        kb.consult_file(f).unwrap();
+    }
+    let opts = Options::default().with_trace(true);
+    mesh_free_then_blocks(d, None, &mut kb, &opts, &mut |_| {}).unwrap()
+}
+
 fn irregular(r: &MeshResult) -> usize {
     let mut edges: Vec<(u32, u32)> = r
         .mesh
@@ -161,9 +172,7 @@ fn a_uniform_run_is_meshed_in_blocks_first_where_a_layout_is_within_the_bounds()
         "no free mesh was made: {:?}",
         first.redesign
     );
-    let mut free_first = KnowledgeBase::builtin().unwrap();
-    free_first.consult_file("tests/kb/free-first.pl").unwrap();
-    let kept = mesh_free_then_blocks(&d, None, &mut free_first, &opts, &mut |_| {}).unwrap();
+    let kept = uniform_run(&d, &["tests/kb/free-first.pl"]);
     let free = mesh_domain(&d, &mut kb, &opts, &mut |_| {}).unwrap();
     assert_eq!(kept.mesh.quads(), free.mesh.quads());
     assert_eq!(kept.trace.len(), free.trace.len());
@@ -180,9 +189,7 @@ fn a_uniform_run_is_meshed_in_blocks_first_where_a_layout_is_within_the_bounds()
 #[test]
 fn blocks_with_many_more_elements_than_the_free_mesh_give_way_to_it() {
     let d = load("tests/counts/fine-fixed-sides.json");
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let r = uniform_run(&d, &[]);
     // an arc leaves a corner at 36.2 deg to the line after it
     within_the_bounds_below(&r, "fine fixed sides", 36.2);
     let told = &r.trace[0].redesign;
@@ -198,11 +205,7 @@ fn blocks_with_many_more_elements_than_the_free_mesh_give_way_to_it() {
             )),
         "{told:?}"
     );
-    let mut blocks_kept = KnowledgeBase::builtin().unwrap();
-    blocks_kept
-        .consult_file("tests/kb/blocks-over-free-0.pl")
-        .unwrap();
-    let b = mesh_free_then_blocks(&d, None, &mut blocks_kept, &opts, &mut |_| {}).unwrap();
+    let b = uniform_run(&d, &["tests/kb/blocks-over-free-0.pl"]);
     within_the_bounds_below(&b, "fine fixed sides, blocks kept", 36.2);
     assert!(b.trace[0].action.starts_with("layout("), "{:?}", b.trace[0]);
     let (free, blocks) = (r.mesh.quads().len(), b.mesh.quads().len());
@@ -226,9 +229,7 @@ fn blocks_with_many_more_elements_than_the_free_mesh_give_way_to_it() {
 #[test]
 fn the_coarser_pass_tries_its_variants_until_one_is_within_the_bounds_and_few() {
     let d = load("tests/counts/small-holes-in-a-slot.json");
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let r = uniform_run(&d, &[]);
     within_the_bounds_below(&r, "small holes in a slot", 45.0);
     let told = &r.trace[0].redesign;
     let first: usize = told[0]
@@ -279,9 +280,7 @@ fn the_coarser_pass_tries_its_variants_until_one_is_within_the_bounds_and_few() 
 #[test]
 fn a_coarse_boundary_measures_many_elements_by_its_segments() {
     let d = load("tests/counts/coarse-chamfer.json");
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let r = uniform_run(&d, &[]);
     within_the_bounds_below(&r, "coarse chamfer", 45.0);
     let told = &r.trace[0].redesign;
     assert!(
@@ -324,9 +323,7 @@ fn a_coarse_boundary_measures_many_elements_by_its_segments() {
 #[test]
 fn four_sided_patches_are_not_meshed_again_coarser() {
     let d = load("../shared/bench/domains/mapping-unequal.json");
-    let opts = Options::default().with_trace(true);
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    let r = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    let r = uniform_run(&d, &[]);
     assert!(
         r.trace[0].action.starts_with("four_sided("),
         "{}",
@@ -343,11 +340,7 @@ fn four_sided_patches_are_not_meshed_again_coarser() {
         !told.iter().any(|t| t.starts_with("coarser coarser_")),
         "{told:?}"
     );
-    let mut tried = KnowledgeBase::builtin().unwrap();
-    tried
-        .consult_file("tests/kb/coarser-after-four-sided.pl")
-        .unwrap();
-    let t = mesh_free_then_blocks(&d, None, &mut tried, &opts, &mut |_| {}).unwrap();
+    let t = uniform_run(&d, &["tests/kb/coarser-after-four-sided.pl"]);
     let variants = t.trace[0]
         .redesign
         .iter()

@@ -2,7 +2,9 @@
 //! the window (`bound/2`'s lower and upper corner) moves, by a compass search, to where the worst corner round
 //! it is best, no element's aspect or taper taken past its bound.
 
-use crate::element_quality::{corners_fine, shape_worst_around, worst_around, worst_around_under};
+use crate::element_quality::{
+    corners_fine, shape_worst_around, shapes_clearly_within, worst_around, worst_around_under,
+};
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
 use crate::smoothing::compass::compass_search;
@@ -40,8 +42,11 @@ pub(crate) fn untangle_sweeps(
                 &around[n],
                 start,
                 |m, best| {
-                    worst_around_under(m, &around[n], best, bounds)
-                        .filter(|_| shape_worst_around(m, &around[n], bounds) <= shape_allowed)
+                    worst_around_under(m, &around[n], best, bounds).filter(|_| {
+                        // the plain test first, as in Laplace's guard
+                        shapes_clearly_within(m, &around[n], bounds)
+                            || shape_worst_around(m, &around[n], bounds) <= shape_allowed
+                    })
                 },
                 |w, best| w < best,
             );
