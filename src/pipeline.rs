@@ -205,6 +205,14 @@ pub struct RunBoundary {
 }
 
 impl RunBoundary {
+    /// Whether a run on this boundary is graded by a max_size (the
+    /// options' or the domain's), as `prepare_run` makes it.
+    pub(crate) fn graded_by_a_max_size(&self, domain: &Domain, opts: &Options) -> bool {
+        opts.max_size
+            .or(domain.max_size())
+            .is_some_and(|m| crate::recursion::grades(m, self.size))
+    }
+
     /// The boundary's nodes and edges, and the initial loops (domain on
     /// the left).
     pub(crate) fn parts(&self) -> (&Mesh, &[Vec<u32>]) {
@@ -486,11 +494,6 @@ impl PreparedRun {
     /// The settings the run read from the KB.
     pub(crate) fn settings(&self) -> &crate::settings::Settings {
         self.prepared.settings()
-    }
-
-    /// Whether the run is graded (an interior limit above the size).
-    pub(crate) fn is_graded(&self) -> bool {
-        self.prepared.is_graded()
     }
 
     /// Whether the run is graded for a coarse boundary only (no

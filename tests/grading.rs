@@ -187,11 +187,78 @@ fn a_limit_equal_to_the_size_gives_the_uniform_mesh() {
     assert_eq!(uniform.mesh.nodes(), same.mesh.nodes());
 }
 
+/// The built-in KB with files of tests/kb consulted, in order.
+fn kb_with_all(files: &[&str]) -> KnowledgeBase {
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    for f in files {
+        kb.consult_file(f).unwrap();
+    }
+    kb
+}
+
 /// The built-in KB with a file of tests/kb consulted.
 fn kb_with(file: &str) -> KnowledgeBase {
-    let mut kb = KnowledgeBase::builtin().unwrap();
-    kb.consult_file(file).unwrap();
-    kb
+    kb_with_all(&[file])
+}
+
+/// The KB with the graded runs' bounds at bound/2's: the stars of
+/// tests/graded were drawn where those graded meshes fell short.
+const AS_BOUND: &str = "tests/kb/graded-bounds-as-bound.pl";
+const AS_BOUND_WORDS: &str =
+    "graded by a max_size: bound(row_growth, 1.5), bound(coarsen_ratio, 1.5) in place (graded_bound/2)";
+
+/// The graded bounds (`graded_bound/2`) are in place in a run graded by
+/// a max_size, and its trace's first step names them; a uniform run does
+/// not read them (its mesh is the same whatever they are).
+#[test]
+fn a_graded_run_has_the_kbs_graded_bounds_in_place_and_a_uniform_run_not() {
+    let d = disc_with_hole();
+    let full = |kb: &mut KnowledgeBase, max_size: Option<f64>| {
+        let opts = Options::default().with_max_size(max_size).with_trace(true);
+        mesh_free_then_blocks(&d, None, kb, &opts, &mut |_| {}).unwrap()
+    };
+    let mut built_in = KnowledgeBase::builtin().unwrap();
+    let graded = full(&mut built_in, Some(2.4));
+    assert_eq!(
+        graded.trace[0].redesign[0],
+        "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4) in place (graded_bound/2)"
+    );
+    within_the_bounds(&graded, "graded ring");
+    let mut as_bound = kb_with(AS_BOUND);
+    let graded_as_bound = full(&mut as_bound, Some(2.4));
+    assert_eq!(graded_as_bound.trace[0].redesign[0], AS_BOUND_WORDS);
+    // taller rows and sooner transitions: fewer elements
+    assert!(
+        graded.mesh.quads().len() < graded_as_bound.mesh.quads().len(),
+        "{} against {}",
+        graded.mesh.quads().len(),
+        graded_as_bound.mesh.quads().len()
+    );
+    // a bound the host reads as it prepares the run (the size field's
+    // growth) is in place from there on: slower growth, more elements
+    let mut slower = kb_with("tests/kb/graded-size-growth.pl");
+    let graded_slower = full(&mut slower, Some(2.4));
+    assert!(
+        graded_slower.trace[0].redesign[0].starts_with(
+            "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4), bound(size_growth, 0.3) in place"
+        ),
+        "{:?}",
+        graded_slower.trace[0]
+    );
+    assert!(
+        graded_slower.mesh.quads().len() > graded.mesh.quads().len(),
+        "{} against {}",
+        graded_slower.mesh.quads().len(),
+        graded.mesh.quads().len()
+    );
+    let uniform = full(&mut built_in, None);
+    let uniform_as_bound = full(&mut as_bound, None);
+    assert_eq!(uniform.mesh.quads(), uniform_as_bound.mesh.quads());
+    assert_eq!(uniform.mesh.nodes(), uniform_as_bound.mesh.nodes());
+    assert!(uniform.trace[0]
+        .redesign
+        .iter()
+        .all(|t| !t.contains("graded_bound")));
 }
 
 /// Every answer's binding of `var` to a query.
@@ -391,9 +458,10 @@ fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
 #[test]
 fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
     let d = load("tests/graded/star-retried.json");
-    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
+    let r = traced_run(&mut kb_with(AS_BOUND), &d);
     within_the_bounds(&r, "graded star");
-    let told = &r.trace[0].redesign;
+    let told = &r.trace[0].redesign[1..];
+    assert_eq!(r.trace[0].redesign[0], AS_BOUND_WORDS);
     assert!(
         told[0].starts_with("graded, free: 1 elements out of bounds")
             && told[0].ends_with("(retried free only: blocks are uniform)"),
@@ -409,10 +477,10 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
 
     // the three retries that moved a threshold kept to uniform runs,
     // the graded one alone is tried (retry_needs(gentler_grading, graded))
-    let mut uniform_only = kb_with("tests/kb/uniform-retries-only.pl");
+    let mut uniform_only = kb_with_all(&[AS_BOUND, "tests/kb/uniform-retries-only.pl"]);
     let r = traced_run(&mut uniform_only, &d);
     within_the_bounds(&r, "graded star, gentler grading");
-    let told = &r.trace[0].redesign;
+    let told = &r.trace[0].redesign[1..];
     assert_eq!(told.len(), 2, "{told:?}");
     assert!(
         told[1].starts_with("retry gentler_grading (bound(size_growth, 0.4)): 0 elements"),
@@ -431,7 +499,7 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
 #[test]
 fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
     let d = load("tests/graded/star-uniform.json");
-    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
+    let r = traced_run(&mut kb_with(AS_BOUND), &d);
     within_the_bounds(&r, "star without max_size");
     assert!(
         r.trace[0].action.starts_with("uniform("),
@@ -447,15 +515,16 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
         .unwrap_or_else(|| panic!("{told:?}"));
     assert!(told[at].ends_with(": kept"), "{told:?}");
     // the graded mesh and every retry before it fell short
-    assert!(told[0].starts_with("graded, free: 1 elements"), "{told:?}");
+    assert_eq!(told[0], AS_BOUND_WORDS);
+    assert!(told[1].starts_with("graded, free: 1 elements"), "{told:?}");
     assert!(
-        told[1..at]
+        told[2..at]
             .iter()
             .all(|t| t.starts_with("retry ") && !t.contains(": 0 elements")),
         "{told:?}"
     );
 
-    let mut graded_only = kb_with("tests/kb/no-uniform-when-graded-short.pl");
+    let mut graded_only = kb_with_all(&[AS_BOUND, "tests/kb/no-uniform-when-graded-short.pl"]);
     let g = traced_run(&mut graded_only, &d);
     assert!(!is_within(&g), "{:?}", g.quality);
     assert_eq!(g.trace[0].action, "free");

@@ -146,20 +146,29 @@ fn mesh_uniform_run(
             discretise_for_run(domain, opts.size)?
         }
     };
-    let prepared = prepare_run(domain, boundary, kb, opts)?;
-    let settings = prepared.settings().clone();
+    let mut retried = false;
+    if boundary.graded_by_a_max_size(domain, opts) {
+        let (result, settings) =
+            retries::graded_run(domain, boundary, kb, opts, retries, &mut retried, progress)?;
+        return Ok(UniformRun {
+            result,
+            settings,
+            graded: true,
+            retried,
+            boundary_asks: None,
+        });
+    }
     // graded by a coarse boundary only, the run is a uniform one's:
     // blocks, retries and all (the blocks follow the boundary's counts)
-    let graded = prepared.is_graded() && !prepared.is_graded_for_coarse_boundary();
+    let prepared = prepare_run(domain, boundary, kb, opts)?;
+    let settings = prepared.settings().clone();
     let boundary_asks = prepared
         .is_graded_for_coarse_boundary()
         .then(|| prepared.elements_the_boundary_asks());
-    let mut retried = false;
     let result = choose_uniform_mesh(
         domain,
         prepared,
         &settings,
-        graded,
         retries,
         &mut retried,
         started,
@@ -171,7 +180,7 @@ fn mesh_uniform_run(
     Ok(UniformRun {
         result,
         settings,
-        graded,
+        graded: false,
         retried,
         boundary_asks,
     })
@@ -185,7 +194,6 @@ fn choose_uniform_mesh(
     domain: &Domain,
     mut prepared: crate::pipeline::PreparedRun,
     settings: &crate::settings::Settings,
-    graded: bool,
     retries: Retries,
     retried: &mut bool,
     started: std::time::Instant,
@@ -200,7 +208,7 @@ fn choose_uniform_mesh(
     // the blocks first: where a layout's mesh is within the bounds, no
     // free mesh is made (None: not tried)
     let mut first_blocks = None;
-    if settings.host.blocks_first > 0.0 && share > 0.0 && !graded && !has_cracks(domain) {
+    if settings.host.blocks_first > 0.0 && share > 0.0 && !has_cracks(domain) {
         tried.push(format!(
             "blocks first (bound(blocks_first, {}))",
             settings.host.blocks_first
@@ -226,13 +234,6 @@ fn choose_uniform_mesh(
     }
     let before_free = started.elapsed().as_secs_f64();
     let mut free = crate::pipeline::mesh_prepared(kb, prepared, progress)?;
-    if graded {
-        let r = retries::graded_with_retries(
-            domain, free, settings, retries, retried, kb, opts, tried,
-        )?;
-        progress(r.mesh.quads.len());
-        return Ok(r);
-    }
     if share <= 0.0 {
         return Ok(told(free, tried));
     }

@@ -18,13 +18,48 @@ type Best = Option<(Score, MeshResult, String)>;
 /// What one retry gave, and its lines for the trace.
 type Retried = (Result<Best, Error>, Vec<String>);
 
+/// A run graded by a max_size: its free mesh made with the bounds of
+/// `graded_bound/2` in place of bound/2's from its preparation on (the
+/// size field is made there), but those a retry has in place (its own
+/// win), which the trace's first step names; then `graded_with_retries`.
+/// The mesh kept, and the settings the free mesh went by.
+pub(super) fn graded_run(
+    domain: &Domain,
+    boundary: crate::pipeline::RunBoundary,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    retries: super::Retries,
+    retried: &mut bool,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(MeshResult, crate::settings::Settings), Error> {
+    let bounds = kb.graded_bounds()?;
+    let (made, placed) = kb.with_bounds_not_in_place(&bounds, |kb| {
+        let prepared = crate::pipeline::prepare_run(domain, boundary, kb, opts)?;
+        let settings = prepared.settings().clone();
+        crate::pipeline::mesh_prepared(kb, prepared, progress).map(|free| (free, settings))
+    })?;
+    let (free, settings) = made?;
+    let tried: Vec<String> = (!placed.is_empty())
+        .then(|| {
+            format!(
+                "graded by a max_size: {} in place (graded_bound/2)",
+                bound_words(&placed)
+            )
+        })
+        .into_iter()
+        .collect();
+    let r = graded_with_retries(domain, free, &settings, retries, retried, kb, opts, tried)?;
+    progress(r.mesh.quads.len());
+    Ok((r, settings))
+}
+
 /// A graded run's free mesh, or where it falls short the retry of
 /// `retry_bound/3` (meshed free: blocks are uniform) nearest the bounds,
 /// where it is nearer than the first; where that still falls short, the
 /// mesh without the `max_size` where it is within the bounds
 /// (`bound(uniform_when_graded_short, _)`).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn graded_with_retries(
+fn graded_with_retries(
     domain: &Domain,
     mut free: MeshResult,
     settings: &crate::settings::Settings,
@@ -190,6 +225,8 @@ pub(super) fn retry_where_short(
     if variants.is_empty() {
         return Ok((best, 0.0, false));
     }
+    // a graded run's retries have its graded bounds in place too
+    let graded_bounds = if graded { kb.graded_bounds()? } else { vec![] };
     let user_files = kb.user_files().to_vec();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let started = std::time::Instant::now();
@@ -201,6 +238,7 @@ pub(super) fn retry_where_short(
         settings,
         blocks_share,
         &variants,
+        &graded_bounds,
         cores,
         fingerprint(free),
     );
@@ -224,7 +262,8 @@ pub(super) fn retry_where_short(
 /// a variant after one found within the bounds is not begun, and one
 /// begun before is dropped, trace lines and all. A variant whose free
 /// mesh is the first run's (`first_free`, its fingerprint) is not tried
-/// in blocks.
+/// in blocks. `underneath` are in place too, but where a variant has a
+/// bound of the same name (a graded run's `graded_bound/2`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn retry_in_parallel(
     domain: &Domain,
@@ -233,6 +272,7 @@ pub(super) fn retry_in_parallel(
     settings: &crate::settings::Settings,
     share: f64,
     variants: &[crate::kb::RetryVariant],
+    underneath: &[(String, f64)],
     workers: usize,
     first_free: u64,
 ) -> Vec<Retried> {
@@ -252,6 +292,12 @@ pub(super) fn retry_in_parallel(
                 return;
             }
             let (variant, bounds, _) = &variants[i];
+            let in_place: Vec<(String, f64)> = underneath
+                .iter()
+                .filter(|(n, _)| !bounds.iter().any(|(m, _)| m == n))
+                .chain(bounds)
+                .cloned()
+                .collect();
             let mut said = Vec::new();
             let r = match engine
                 .take()
@@ -259,7 +305,7 @@ pub(super) fn retry_in_parallel(
             {
                 Ok(mut kb) => {
                     let r = kb
-                        .with_bounds_in_place(bounds, |kb| {
+                        .with_bounds_in_place(&in_place, |kb| {
                             retry_variant(
                                 domain, kb, opts, settings, share, variant, bounds, first_free,
                                 &mut said,
@@ -386,10 +432,20 @@ mod tests {
         let mut kb = KnowledgeBase::builtin().unwrap();
         let settings = kb.settings().unwrap();
         let opts = Options::default();
-        retry_in_parallel(&domain, &[], &opts, &settings, 0.5, &variants(), workers, 0)
-            .into_iter()
-            .map(|(r, said)| (said, r.unwrap().map(|k| k.0)))
-            .collect()
+        retry_in_parallel(
+            &domain,
+            &[],
+            &opts,
+            &settings,
+            0.5,
+            &variants(),
+            &[],
+            workers,
+            0,
+        )
+        .into_iter()
+        .map(|(r, said)| (said, r.unwrap().map(|k| k.0)))
+        .collect()
     }
 
     #[test]

@@ -38,7 +38,7 @@ const USER_LOADER: &str = include_str!("user_loader.pl");
 /// Predicates a `--kb` file replaces instead of extending: one of arity 1
 /// (`strategy/1`) whole, one of arity 2 or more (`bound/2`) name by name,
 /// by its first argument (`fm_consult/3` in `loader.pl`).
-const SETTINGS: &[&str] = &["strategy/1", "bound/2"];
+const SETTINGS: &[&str] = &["strategy/1", "bound/2", "graded_bound/2"];
 
 /// One answer's bindings.
 pub type Bindings = BTreeMap<String, Term>;
@@ -76,6 +76,9 @@ pub struct KnowledgeBase {
     user_loader: bool,
     /// The time the engine took to build and consult its files.
     load_time: std::time::Duration,
+    /// The names of the bounds set in place (`with_bounds_in_place`),
+    /// outermost first.
+    pub(super) in_place: Vec<Vec<String>>,
 }
 
 /// Counters of the engine's use.
@@ -148,6 +151,7 @@ impl KnowledgeBase {
             second: None,
             user_loader: false,
             load_time: std::time::Duration::ZERO,
+            in_place: Vec::new(),
         };
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
@@ -712,6 +716,34 @@ mod tests {
             .on_second_engine(|kb| kb.ask_cached(BAND, "V").unwrap().map(|t| term_text(&t)))
             .unwrap();
         assert_eq!(kb.take_from_second_engine(rx).flatten(), band);
+    }
+
+    #[test]
+    fn bounds_set_in_place_by_an_outer_call_win_over_an_inner_ones() {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        let bound = |kb: &mut KnowledgeBase, n: &str| {
+            kb.run(&format!("bound({n}, V).")).unwrap()[0]["V"].clone()
+        };
+        let (before_rows, before_coarsen) = (
+            bound(&mut kb, "row_growth"),
+            bound(&mut kb, "coarsen_ratio"),
+        );
+        let graded = kb.graded_bounds().unwrap();
+        assert_eq!(graded[0].0, "row_growth");
+        let outer = [("row_growth".to_string(), 3.0)];
+        let (inner, placed) = kb
+            .with_bounds_in_place(&outer, |kb| {
+                kb.with_bounds_not_in_place(&graded, |kb| {
+                    (bound(kb, "row_growth"), bound(kb, "coarsen_ratio"))
+                })
+                .unwrap()
+            })
+            .unwrap();
+        assert_eq!(term_text(&inner.0), "3.0");
+        assert_eq!(term_text(&inner.1), "1.4");
+        assert_eq!(placed, vec![("coarsen_ratio".to_string(), 1.4)]);
+        assert_eq!(bound(&mut kb, "row_growth"), before_rows);
+        assert_eq!(bound(&mut kb, "coarsen_ratio"), before_coarsen);
     }
 
     #[test]

@@ -62,11 +62,7 @@ impl KnowledgeBase {
             let (Some(v), Some(n), Some(x)) = (b.get("V"), b.get("N"), b.get("X")) else {
                 continue;
             };
-            let value = terms::term_number(x).ok_or_else(|| KbError::Answer {
-                query: "retry_bound/3".into(),
-                answer: terms::term_text(x),
-                expected: "a number".into(),
-            })?;
+            let value = bound_value(x, "retry_bound/3")?;
             let (v, n) = (terms::term_text(v), terms::term_text(n));
             match variants.iter_mut().find(|(w, _, _)| *w == v) {
                 Some((_, bounds, _)) => bounds.push((n, value)),
@@ -96,9 +92,45 @@ impl KnowledgeBase {
         f: impl FnOnce(&mut KnowledgeBase) -> R,
     ) -> Result<R, KbError> {
         self.change_bounds(&terms::push_bounds_question(bounds))?;
+        self.in_place
+            .push(bounds.iter().map(|b| b.0.clone()).collect());
         let r = f(self);
+        self.in_place.pop();
         self.change_bounds(terms::POP_BOUNDS)?;
         Ok(r)
+    }
+
+    /// The bounds in place of bound/2's in a run graded by a max_size
+    /// (`graded_bound/2`, kb/strategy.pl), in the KB's order.
+    pub fn graded_bounds(&mut self) -> Result<Vec<(String, f64)>, KbError> {
+        let mut bounds = Vec::new();
+        for b in self.run(terms::GRADED_BOUND_QUESTION)? {
+            let (Some(n), Some(x)) = (b.get("N"), b.get("X")) else {
+                continue;
+            };
+            bounds.push((terms::term_text(n), bound_value(x, "graded_bound/2")?));
+        }
+        Ok(bounds)
+    }
+
+    /// `with_bounds_in_place` for those of `bounds` that no outer call
+    /// has in place (a retry's own bounds win over a run's), and which
+    /// they were; nothing changed where there are none.
+    pub fn with_bounds_not_in_place<R>(
+        &mut self,
+        bounds: &[(String, f64)],
+        f: impl FnOnce(&mut KnowledgeBase) -> R,
+    ) -> Result<(R, Vec<(String, f64)>), KbError> {
+        let placed: Vec<(String, f64)> = bounds
+            .iter()
+            .filter(|(n, _)| !self.in_place.iter().flatten().any(|m| m == n))
+            .cloned()
+            .collect();
+        if placed.is_empty() {
+            return Ok((f(self), placed));
+        }
+        let r = self.with_bounds_in_place(&placed, f)?;
+        Ok((r, placed))
     }
 
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {
@@ -265,6 +297,15 @@ fn read_design(
             expected: "d(Feature, Action) with a known, sound action".into(),
         }),
     }
+}
+
+/// A bound's value in an answer to `query`: a number, or the KB's error.
+fn bound_value(x: &Term, query: &str) -> Result<f64, KbError> {
+    terms::term_number(x).ok_or_else(|| KbError::Answer {
+        query: query.into(),
+        answer: terms::term_text(x),
+        expected: "a number".into(),
+    })
 }
 
 #[cfg(test)]

@@ -653,6 +653,9 @@ pub(super) const RETRY_BOUND_QUESTION: &str = "retry_bound(V, N, X).";
 /// What a domain needs for a retry to be tried (strategy.pl).
 pub(super) const RETRY_NEEDS_QUESTION: &str = "retry_needs(V, W).";
 
+/// The bounds of a run graded by a max_size.
+pub(super) const GRADED_BOUND_QUESTION: &str = "graded_bound(N, X).";
+
 /// Sets `bounds` in place of the bounds of those names, the bounds
 /// before saved (`fm_bounds_push/1` of the loader).
 pub(super) fn push_bounds_question(bounds: &[(String, f64)]) -> String {

@@ -77,17 +77,19 @@ impl Prepared {
     /// size field, size_field.rs); uniform when it is None or no larger
     /// than the size.
     pub fn with_max_size(mut self, max_size: Option<f64>) -> Prepared {
-        self.max_size = max_size.filter(|&m| m > self.size * (1.0 + 1e-9));
+        self.max_size = max_size.filter(|&m| grades(m, self.size));
         self
     }
     /// The settings the run goes by.
     pub fn settings(&self) -> &Settings {
         &self.set
     }
-    /// Whether the run is graded (an interior limit above the size).
-    pub fn is_graded(&self) -> bool {
-        self.max_size.is_some()
-    }
+}
+
+/// Whether a limit of `max_size` grades a run at `size` (a limit no
+/// larger than the size leaves it uniform).
+pub fn grades(max_size: f64, size: f64) -> bool {
+    max_size > size * (1.0 + 1e-9)
 }
 
 /// Passes of the loop subdivision before the run gives up (and the last

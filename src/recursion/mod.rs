@@ -6,4 +6,4 @@
 mod mesher;
 mod queue;
 
-pub use mesher::{MeshError, Mesher, Outcome, Prepared};
+pub use mesher::{grades, MeshError, Mesher, Outcome, Prepared};
