@@ -292,27 +292,26 @@ pub(super) fn retry_in_parallel(
                 return;
             }
             let (variant, bounds, _) = &variants[i];
-            let in_place: Vec<(String, f64)> = underneath
-                .iter()
-                .filter(|(n, _)| !bounds.iter().any(|(m, _)| m == n))
-                .chain(bounds)
-                .cloned()
-                .collect();
             let mut said = Vec::new();
             let r = match engine
                 .take()
                 .map_or_else(|| KnowledgeBase::with_user_files(user_files), Ok)
             {
                 Ok(mut kb) => {
+                    // the variant's bounds, and beneath them those of
+                    // `underneath` it has no bound of
                     let r = kb
-                        .with_bounds_in_place(&in_place, |kb| {
-                            retry_variant(
-                                domain, kb, opts, settings, share, variant, bounds, first_free,
-                                &mut said,
-                            )
+                        .with_bounds_in_place(bounds, |kb| {
+                            kb.with_bounds_not_in_place(underneath, |kb| {
+                                retry_variant(
+                                    domain, kb, opts, settings, share, variant, bounds, first_free,
+                                    &mut said,
+                                )
+                            })
                         })
+                        .and_then(|r| r)
                         .map_err(Error::Kb)
-                        .and_then(|r| r);
+                        .and_then(|(r, _)| r);
                     engine = Some(kb);
                     r
                 }
