@@ -275,17 +275,23 @@ fn mesh(args: cli::MeshArgs) -> Result<()> {
     let planned = run_outputs::plan(&domains, &args.outputs, args.trace.as_deref())?;
     if domains.len() == 1 {
         // the domain is read and its boundary made ready while the engine
-        // loads (the engine cannot move between threads; these can)
-        // one domain: a core to spare answers part of the KB's questions,
-        // with an engine built while the first one is
-        let second = std::thread::available_parallelism()
-            .is_ok_and(|n| n.get() > 1)
-            .then(|| {
-                let files = args.kb.iter().map(|f| f.to_string_lossy().into_owned());
-                KnowledgeBase::second_engine_loading(files.collect())
+        // loads (the engine cannot move between threads; these can); a
+        // domain of more than a few hundred elements, on a machine with a
+        // core to spare, gets a second engine too, built beside the first,
+        // to answer part of the KB's questions (on a small one its build
+        // would only contend with the first's)
+        let (kb, (early, second)) = std::thread::scope(|scope| {
+            let early = scope.spawn(|| {
+                let early = read_and_discretise(&domains[0], &args);
+                let second = early
+                    .as_ref()
+                    .is_ok_and(|(_, boundary)| worth_a_second_engine(boundary))
+                    .then(|| {
+                        let files = args.kb.iter().map(|f| f.to_string_lossy().into_owned());
+                        KnowledgeBase::second_engine_loading(files.collect())
+                    });
+                (early, second)
             });
-        let (kb, early) = std::thread::scope(|scope| {
-            let early = scope.spawn(|| read_and_discretise(&domains[0], &args));
             let kb = load_kb(&args.kb);
             let early = early
                 .join()
@@ -423,6 +429,18 @@ fn one_line(s: &str) -> String {
 }
 
 /// A domain file read, and its boundary made ready for a run.
+/// Whether a run on `boundary` is long enough for a second engine to pay
+/// for its build (about 30 ms of another core's time): on a machine with
+/// a core to spare, a domain of more elements of its size than
+/// `SECOND_ENGINE_FROM`.
+fn worth_a_second_engine(boundary: &freemesh::RunBoundary) -> bool {
+    std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)
+        && boundary.elements_of_the_size() > SECOND_ENGINE_FROM
+}
+
+/// See `worth_a_second_engine`.
+const SECOND_ENGINE_FROM: f64 = 300.0;
+
 fn read_and_discretise(
     path: &std::path::Path,
     args: &cli::MeshArgs,

@@ -213,6 +213,13 @@ impl RunBoundary {
             .is_some_and(|m| crate::recursion::grades(m, self.size))
     }
 
+    /// About how many elements of the boundary size cover the domain (its
+    /// area over the size squared): what a caller knows of a run's length
+    /// before it starts.
+    pub fn elements_of_the_size(&self) -> f64 {
+        self.area / (self.size * self.size)
+    }
+
     /// The boundary's nodes and edges, and the initial loops (domain on
     /// the left).
     pub(crate) fn parts(&self) -> (&Mesh, &[Vec<u32>]) {

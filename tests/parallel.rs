@@ -43,3 +43,34 @@ fn a_second_engine_or_no_trace_gives_the_same_mesh_and_trace() {
     assert_eq!(untraced.mesh.nodes(), alone.mesh.nodes());
     assert_eq!(untraced.mesh.quads(), alone.mesh.quads());
 }
+
+/// `freemesh mesh DOMAIN --stats`: its stderr.
+fn stats_of(domain: &str) -> String {
+    let out = std::env::temp_dir().join(format!(
+        "freemesh-parallel-{}-{}.msh",
+        std::process::id(),
+        domain.replace('/', "_")
+    ));
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .args(["mesh", domain, "--stats", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_file(&out);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{err}");
+    err
+}
+
+#[test]
+fn a_domain_of_a_few_elements_is_meshed_without_a_second_engine_and_a_larger_one_with() {
+    // its build would only contend with the first engine's on a small
+    // domain (42 elements); a larger one (about 3,000) pays for it
+    let small = stats_of("../shared/bench/domains/mapping-unequal.json");
+    assert!(small.contains("queries and"), "{small}");
+    assert!(!small.contains("answered by a second engine"), "{small}");
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) > 1 {
+        let larger = stats_of("../shared/bench/hard/flange.json");
+        assert!(larger.contains("answered by a second engine"), "{larger}");
+    }
+}
