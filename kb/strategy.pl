@@ -167,6 +167,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   worst corner lies outside the window: one element at 2 deg is worse
 %   than four at 42 (the trace gives the weight where it differs from
 %   the count). 0: each element once.
+% corner_slack: in choosing among meshes (blocks or free, a retry or
+%   the first run, a coarser mesh, a graded mesh or the uniform one), a
+%   corner within this many degrees outside the window counts as within
+%   it: the tolerance the judge measures corners with, so that a mesh
+%   with a corner at 44.8 deg is not passed over for one whose size
+%   jumps by 2.2. 0: the window exactly.
 % coarse_boundary_grading: a domain without max_size may coarsen inside
 %   as far as a smooth transition from its boundary allows (the format's
 %   promise). Where fixed segment counts make a boundary segment longer
@@ -267,6 +273,7 @@ bound(blocks_when_out_of_bounds, 0.5).
 bound(retry_sharpest_corner, 8.1).
 bound(blocks_first, 1).
 bound(out_of_bounds_step, 5).
+bound(corner_slack, 0.5).
 bound(coarse_boundary_grading, 1.5).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).

@@ -78,6 +78,7 @@ pub(super) fn coarser_when_over(
         "{count} elements, over bound(coarser_when_over, {over}) times {asks_words} ({area_count:.0})"
     )];
     let mut kept = (Score::of(&r, &settings, domain), r, None);
+    said.push(format!("the first run: {}", kept.0.words()));
     // the runs' times: all of them, and the kept one's
     let (mut all_runs, mut kept_run) = (first_run, first_run);
     for (i, (variant, bounds, _)) in variants.iter().enumerate() {

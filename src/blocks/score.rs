@@ -60,12 +60,15 @@ fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
 /// `bound(out_of_bounds_step, D)` degrees its worst corner lies outside
 /// (one element at 2 degrees is worse than four at 42); one more for each
 /// of aspect, taper and size jump above its bound. `outside` is the
-/// plain count the trace reports.
+/// plain count the trace reports. A corner within
+/// `bound(corner_slack, D)` degrees outside the window counts as within
+/// it; the elements with one are `slacked`, the last tie-break.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct Score {
     pub(super) weight: usize,
     pub(super) outside: usize,
     pub(super) irregular: usize,
+    pub(super) slacked: usize,
 }
 
 impl Score {
@@ -79,12 +82,12 @@ impl Score {
         let overs = over(q.max_aspect, bounds.max_aspect)
             + over(q.max_taper, bounds.max_taper)
             + over(q.max_size_jump, bounds.max_size_jump);
-        let (outside, weight) =
-            corners_outside(&r.mesh, bounds, domain, settings.host.out_of_bounds_step);
+        let c = corners_outside(&r.mesh, bounds, domain, &settings.host);
         Score {
-            weight: weight + overs,
-            outside: outside + overs,
+            weight: c.weight + overs,
+            outside: c.outside + overs,
             irregular: irregular_nodes(&r.mesh),
+            slacked: c.slacked,
         }
     }
 
@@ -96,8 +99,16 @@ impl Score {
         } else {
             String::new()
         };
+        let slacked = if self.slacked > 0 {
+            format!(
+                " ({} with a corner just outside the window, within bound(corner_slack))",
+                self.slacked
+            )
+        } else {
+            String::new()
+        };
         format!(
-            "{} elements out of bounds{weighed}, {} irregular nodes",
+            "{} elements out of bounds{weighed}{slacked}, {} irregular nodes",
             self.outside, self.irregular
         )
     }
@@ -108,19 +119,21 @@ impl Score {
 /// takes whole (it cannot do better than the input's corner; an input
 /// corner of 83 deg split into two of 41.5 is outside, as the judge has
 /// it); and their weight, each one plus a step for every `step` degrees
-/// its worst corner lies outside the window.
+/// its worst corner lies outside the window; and the elements with a
+/// corner outside the window by no more than the slack (counted within).
 fn corners_outside(
     mesh: &crate::mesh::Mesh,
     bounds: &crate::settings::ElementBounds,
     domain: &Domain,
-    step: f64,
-) -> (usize, usize) {
+    host: &crate::settings::HostBounds,
+) -> Corners {
+    let (step, slack) = (host.out_of_bounds_step, host.corner_slack);
     let at_input = input_corner_angles(mesh, domain);
-    let (mut count, mut weight) = (0, 0);
+    let mut c = Corners::default();
     for q in 0..mesh.quads.len() {
         let quad = mesh.quads[q];
         let angles = crate::geometry::quad_angles(mesh.quad_points(q));
-        let mut worst: Option<f64> = None;
+        let (mut worst, mut slacked): (Option<f64>, bool) = (None, false);
         for k in 0..4 {
             let excused = || match at_input.binary_search_by_key(&quad[k], |a| a.0) {
                 Ok(i) => angles[k] >= at_input[i].1 - 1e-6,
@@ -133,14 +146,28 @@ fn corners_outside(
             } else {
                 continue;
             };
+            if by <= slack + 1e-9 {
+                slacked = true;
+                continue;
+            }
             worst = Some(worst.map_or(by, |w: f64| w.max(by)));
         }
         if let Some(by) = worst {
-            count += 1;
-            weight += 1 + if step > 0.0 { (by / step) as usize } else { 0 };
+            c.outside += 1;
+            c.weight += 1 + if step > 0.0 { (by / step) as usize } else { 0 };
+        } else if slacked {
+            c.slacked += 1;
         }
     }
-    (count, weight)
+    c
+}
+
+/// What `corners_outside` counts.
+#[derive(Debug, Default, PartialEq)]
+struct Corners {
+    outside: usize,
+    weight: usize,
+    slacked: usize,
 }
 
 /// Interior nodes (on no boundary edge) where other than four elements
@@ -229,7 +256,15 @@ mod tests {
         )
         .unwrap();
         let bounds = crate::settings::ElementBounds::default();
-        let out = |m: &Mesh, step: f64| corners_outside(m, &bounds, &domain, step);
+        let out = |m: &Mesh, step: f64| {
+            let host = crate::settings::HostBounds {
+                out_of_bounds_step: step,
+                corner_slack: 0.0,
+                ..Default::default()
+            };
+            let c = corners_outside(m, &bounds, &domain, &host);
+            (c.outside, c.weight)
+        };
         assert_eq!(out(&rhombi(1, 60.0), 5.0), (0, 0));
         assert_eq!(out(&rhombi(4, 44.0), 5.0), (4, 4));
         // 28 deg past: 5 steps more
@@ -238,5 +273,31 @@ mod tests {
         assert_eq!(out(&rhombi(1, 2.0), 5.0), (1, 9));
         // a step of 0 counts each element once
         assert_eq!(out(&rhombi(1, 2.0), 0.0), (1, 1));
+    }
+
+    /// A corner within `bound(corner_slack, D)` degrees outside the
+    /// window counts as within it (the judge's tolerance); one further
+    /// out is counted, its weight from the window itself.
+    #[test]
+    fn a_corner_within_the_slack_counts_as_within_the_window() {
+        let domain = Domain::from_json_str(
+            r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
+        )
+        .unwrap();
+        let bounds = crate::settings::ElementBounds::default();
+        let out = |m: &Mesh, slack: f64| {
+            let host = crate::settings::HostBounds {
+                out_of_bounds_step: 5.0,
+                corner_slack: slack,
+                ..Default::default()
+            };
+            let c = corners_outside(m, &bounds, &domain, &host);
+            (c.outside, c.weight, c.slacked)
+        };
+        assert_eq!(out(&rhombi(2, 44.7), 0.0), (2, 2, 0));
+        assert_eq!(out(&rhombi(2, 44.7), 0.5), (0, 0, 2));
+        assert_eq!(out(&rhombi(2, 44.0), 0.5), (2, 2, 0));
+        // 29 deg past the window: 5 steps more, the slack not taken off
+        assert_eq!(out(&rhombi(1, 16.0), 0.5), (1, 6, 0));
     }
 }
