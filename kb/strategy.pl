@@ -173,6 +173,11 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   it: the tolerance the judge measures corners with, so that a mesh
 %   with a corner at 44.8 deg is not passed over for one whose size
 %   jumps by 2.2. 0: the window exactly.
+% layout_steps: a block layout (the rules at a coarse size) is given up
+%   once it has taken this many steps an element it is expected to
+%   have, and 30 more: the rules struggling there, taking elements back
+%   and splitting loops, make no layout worth keeping (the trace says
+%   `the rules took over N steps at size S`).
 % coarse_boundary_grading: a domain without max_size may coarsen inside
 %   as far as a smooth transition from its boundary allows (the format's
 %   promise). Where fixed segment counts make a boundary segment longer
@@ -274,6 +279,7 @@ bound(retry_sharpest_corner, 8.1).
 bound(blocks_first, 1).
 bound(out_of_bounds_step, 5).
 bound(corner_slack, 0.5).
+bound(layout_steps, 3).
 bound(coarse_boundary_grading, 1.5).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).

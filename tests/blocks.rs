@@ -643,3 +643,26 @@ fn the_repl_meshes_the_loaded_domain_in_blocks() {
     let o = freemesh(&["repl"], Some(":blocks\n"));
     assert!(String::from_utf8_lossy(&o.stdout).contains("error: no domain loaded"));
 }
+
+/// A block layout is given up after `bound(layout_steps, 3)` steps an
+/// expected element and 30 more, and the trace says after how many: the
+/// small holes in a slot have layouts of about 4, 8 and 18 elements
+/// expected at 4, 3 and 2 element sizes, which the rules do not finish;
+/// with the bound at 1 each is given up sooner.
+#[test]
+fn the_kb_sets_how_long_a_block_layout_may_take() {
+    let d = load("tests/counts/small-holes-in-a-slot.json");
+    let given_up = |r: &MeshResult| -> Vec<usize> {
+        r.trace[0]
+            .redesign
+            .iter()
+            .filter(|t| t.starts_with("blocks of "))
+            .filter_map(|t| t.split("took over ").nth(1))
+            .filter_map(|t| t.split(' ').next()?.parse().ok())
+            .collect()
+    };
+    let built_in = given_up(&uniform_run(&d, &[]));
+    let sooner = given_up(&uniform_run(&d, &["tests/kb/layout-steps-1.pl"]));
+    assert_eq!(built_in, vec![42, 54, 84]);
+    assert_eq!(sooner, vec![34, 38, 48]);
+}

@@ -524,15 +524,19 @@ fn block_layout(
 /// The layout: `domain` meshed by the rules at the coarse size of
 /// `opts`. A layout the rules cannot finish is of no use (its open loops
 /// would be closed by triangles), so the run stops as soon as the rules
-/// stop, or once it has taken three times as many steps as elements are
-/// expected (the rules struggling: fallbacks taking elements back and
-/// splitting loops, long and to no use).
+/// stop, or once it has taken `bound(layout_steps, 3)` times as many
+/// steps as elements are expected, and 30 more (the rules struggling:
+/// fallbacks taking elements back and splitting loops, long and to no
+/// use).
 fn layout(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options) -> Result<MeshResult, String> {
     let coarse = opts.size.unwrap_or(domain.size());
     let words = |e: Error| format!("the layout could not be made: {e}");
     let boundary = discretise_for_run(domain, opts.size).map_err(words)?;
     let prepared = prepare_run(domain, boundary, kb, opts).map_err(words)?;
-    let budget = 30 + 3 * (domain.area() / (coarse * coarse)) as usize;
+    // (the expected count whole, then times the bound: the built-in 3
+    // gives 3 steps an element exactly)
+    let expected = (domain.area() / (coarse * coarse)).floor();
+    let budget = 30 + (prepared.settings().host.layout_steps * expected) as usize;
     let mut run = Run::start(kb, prepared);
     let mut steps = 0;
     while run.step().map_err(words)? {
