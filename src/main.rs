@@ -428,7 +428,6 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// A domain file read, and its boundary made ready for a run.
 /// Whether a run on `boundary` is long enough for a second engine to pay
 /// for its build (about 30 ms of another core's time): on a machine with
 /// a core to spare, a domain of more elements of its size than
@@ -441,6 +440,7 @@ fn worth_a_second_engine(boundary: &freemesh::RunBoundary) -> bool {
 /// See `worth_a_second_engine`.
 const SECOND_ENGINE_FROM: f64 = 300.0;
 
+/// A domain file read, and its boundary made ready for a run.
 fn read_and_discretise(
     path: &std::path::Path,
     args: &cli::MeshArgs,

@@ -231,6 +231,17 @@ mod tests {
 
     /// `n` unit rhombi side by side, each with corners of `deg` and
     /// 180 - `deg`.
+    /// `corners_outside` with the built-in element bounds and the given
+    /// step and slack.
+    fn counted(m: &Mesh, domain: &Domain, step: f64, slack: f64) -> Corners {
+        let host = crate::settings::HostBounds {
+            out_of_bounds_step: step,
+            corner_slack: slack,
+            ..Default::default()
+        };
+        corners_outside(m, &crate::settings::ElementBounds::default(), domain, &host)
+    }
+
     fn rhombi(n: usize, deg: f64) -> Mesh {
         let mut m = Mesh::default();
         let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
@@ -255,14 +266,8 @@ mod tests {
             r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
         )
         .unwrap();
-        let bounds = crate::settings::ElementBounds::default();
         let out = |m: &Mesh, step: f64| {
-            let host = crate::settings::HostBounds {
-                out_of_bounds_step: step,
-                corner_slack: 0.0,
-                ..Default::default()
-            };
-            let c = corners_outside(m, &bounds, &domain, &host);
+            let c = counted(m, &domain, step, 0.0);
             (c.outside, c.weight)
         };
         assert_eq!(out(&rhombi(1, 60.0), 5.0), (0, 0));
@@ -284,14 +289,8 @@ mod tests {
             r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
         )
         .unwrap();
-        let bounds = crate::settings::ElementBounds::default();
         let out = |m: &Mesh, slack: f64| {
-            let host = crate::settings::HostBounds {
-                out_of_bounds_step: 5.0,
-                corner_slack: slack,
-                ..Default::default()
-            };
-            let c = corners_outside(m, &bounds, &domain, &host);
+            let c = counted(m, &domain, 5.0, slack);
             (c.outside, c.weight, c.slacked)
         };
         assert_eq!(out(&rhombi(2, 44.7), 0.0), (2, 2, 0));

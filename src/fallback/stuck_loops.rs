@@ -316,12 +316,11 @@ fn close_region(
 
 /// Where a halving node projected onto a strongly curved boundary leaves
 /// one of its elements non-convex, the interior nodes of its elements
-/// are first moved as the projection moved it (the node stays on
-/// its curve, as
-/// the judge and a solver's geometry want); only where that leaves an
-/// element non-convex is the node pulled back towards the segment's
-/// chord a step at a time (off its curve by less than the sagitta), as
-/// the last resort does.
+/// are first moved as the projection moved it (the node stays on its
+/// curve, as the judge and a solver's geometry want); only where that
+/// leaves an element non-convex is the node pulled back towards the
+/// segment's chord a step at a time (off its curve by less than the
+/// sagitta), as the last resort does.
 fn pull_back_curved_midpoints(
     out: &mut Mesh,
     halved: &[(u32, u32)],
