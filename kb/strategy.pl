@@ -178,6 +178,18 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   have, and 30 more: the rules struggling there, taking elements back
 %   and splitting loops, make no layout worth keeping (the trace says
 %   `the rules took over N steps at size S`).
+% arc_corner_chord: an element at an input corner has the chords' angle
+%   there, not the curves': an arc bulging out of the domain makes it
+%   sharper by half its first segment's sweep. Where that would take the
+%   corner more than this many degrees below the lower of the corner and
+%   the window's lower corner (or above the window's upper corner), the
+%   arc's segments grow from a shorter first one, by at most the square
+%   root of max_size_jump a segment, the edge keeping its count. 0: every
+%   segment of an edge the same.
+% arc_corner_from: a corner sharper than this many degrees keeps its
+%   arcs' equal segments: there the element at the tip is long and thin
+%   whatever its chords (its taper binds, not its corner), and shorter
+%   first segments only crowd the spike with smaller elements.
 % coarse_boundary_grading: a domain without max_size may coarsen inside
 %   as far as a smooth transition from its boundary allows (the format's
 %   promise). Where fixed segment counts make a boundary segment longer
@@ -280,6 +292,8 @@ bound(blocks_first, 1).
 bound(out_of_bounds_step, 5).
 bound(corner_slack, 0.5).
 bound(layout_steps, 3).
+bound(arc_corner_chord, 0.2).
+bound(arc_corner_from, 15).
 bound(coarse_boundary_grading, 1.5).
 bound(fallback_reopen_rings, 2).
 bound(closing_loop_segments, 12).

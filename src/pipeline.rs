@@ -10,6 +10,7 @@ use std::time::Instant;
 use crate::cleanup;
 use crate::fallback::triangles::FallbackError;
 use crate::features::FrontFeatures;
+use crate::input::arc_corners::CornerAim;
 use crate::input::boundary::{self, Discretised};
 use crate::input::domain::{self, Domain, DomainError};
 use crate::kb::{KbError, KbStats, KnowledgeBase};
@@ -202,6 +203,8 @@ pub struct RunBoundary {
     wall: f64,
     /// The `max_size_jump` bound the cutting lines were drawn with.
     jump: f64,
+    /// What the arcs' first chords at input corners were held to.
+    aim: CornerAim,
 }
 
 impl RunBoundary {
@@ -229,15 +232,12 @@ impl RunBoundary {
 
 /// Discretises a domain's boundary with boundary size `size` (the
 /// domain's own when None) and draws the cutting lines, with the built-in
-/// `thin_wall` and `max_size_jump` bounds (a run whose KB sets others
-/// discretises again).
+/// `thin_wall`, `max_size_jump` and corner bounds (a run whose KB sets
+/// others discretises again).
 pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
-    discretise_with_bounds(
-        domain,
-        size,
-        HostBounds::default().thin_wall,
-        ElementBounds::default().max_size_jump,
-    )
+    let (host, element) = (HostBounds::default(), ElementBounds::default());
+    let aim = CornerAim::of(&host, &element);
+    discretise_with_bounds(domain, size, host.thin_wall, element.max_size_jump, aim)
 }
 
 fn discretise_with_bounds(
@@ -245,6 +245,7 @@ fn discretise_with_bounds(
     size: Option<f64>,
     wall: f64,
     jump: f64,
+    aim: CornerAim,
 ) -> Result<RunBoundary, Error> {
     let size = size.unwrap_or(domain.size);
     if !(size.is_finite() && size > 0.0) {
@@ -265,7 +266,7 @@ fn discretise_with_bounds(
         }
         .into());
     }
-    let disc = boundary::discretise(domain, size, wall, jump)?;
+    let disc = boundary::discretise(domain, size, wall, jump, &aim)?;
     let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
     Ok(RunBoundary {
         disc,
@@ -273,21 +274,24 @@ fn discretise_with_bounds(
         area,
         wall,
         jump,
+        aim,
     })
 }
 
-/// The boundary discretised again where the KB's `thin_wall` or
-/// `max_size_jump` bound is not the one it was made with.
+/// The boundary discretised again where the KB's `thin_wall`,
+/// `max_size_jump` or corner bounds (see `CornerAim`) are not the ones
+/// it was made with.
 fn with_kb_bounds(
     domain: &Domain,
     run_boundary: RunBoundary,
     settings: &Settings,
 ) -> Result<RunBoundary, Error> {
     let (wall, jump) = (settings.host.thin_wall, settings.element.max_size_jump);
-    if run_boundary.wall == wall && run_boundary.jump == jump {
+    let aim = CornerAim::of(&settings.host, &settings.element);
+    if run_boundary.wall == wall && run_boundary.jump == jump && run_boundary.aim == aim {
         return Ok(run_boundary);
     }
-    discretise_with_bounds(domain, Some(run_boundary.size), wall, jump)
+    discretise_with_bounds(domain, Some(run_boundary.size), wall, jump, aim)
 }
 
 /// The boundary features of a domain's initial loop (after the cutting

@@ -316,6 +316,15 @@ pub struct HostBounds {
     /// given up once it has taken this many steps an expected element,
     /// and 30 more (see blocks/mod.rs, `layout`).
     pub layout_steps: f64,
+    /// `arc_corner_chord`: where an arc's first chord at an input corner
+    /// would take the element's corner more than this many degrees below
+    /// the lower of the corner and the window's lower corner (or above
+    /// the upper), the arc's segments grow from a shorter first one (0:
+    /// uniform segments; see input/arc_corners.rs).
+    pub arc_corner_chord: f64,
+    /// `arc_corner_from`: a corner sharper than this many degrees keeps
+    /// its arcs' equal segments (see input/arc_corners.rs).
+    pub arc_corner_from: f64,
     /// `fallback_reopen_rings`: where the rules' elements lost a boundary
     /// or line segment, the elements within this many rings of it are
     /// meshed again with the segment in place (see pipeline/stuck.rs).
@@ -353,14 +362,14 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 35] = [
+    pub const BUILT_IN: [f64; 37] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
         2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0, 0.0,
-        0.5, 3.0,
+        0.5, 3.0, 0.2, 15.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 35] = [
+    pub const NAMES: [&'static str; 37] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -396,13 +405,15 @@ impl HostBounds {
         "coarser_after_four_sided",
         "corner_slack",
         "layout_steps",
+        "arc_corner_chord",
+        "arc_corner_from",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 35]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps] =
+    pub fn new(v: [f64; 37]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps, arc_corner_chord, arc_corner_from] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -440,6 +451,8 @@ impl HostBounds {
             (0.0, 2.0),
             (0.0, 5.0),
             (0.0, f64::MAX),
+            (0.0, 5.0),
+            (0.0, 180.0),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -486,6 +499,8 @@ impl HostBounds {
             coarser_after_four_sided,
             corner_slack,
             layout_steps,
+            arc_corner_chord,
+            arc_corner_from,
         })
     }
 }

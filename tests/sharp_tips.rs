@@ -131,3 +131,44 @@ fn an_arc_that_crosses_the_line_before_it_is_refused_where_it_crosses() {
         "outer: the loop intersects itself near (-0.738989, -1.176069)"
     );
 }
+
+/// The corner (deg) of the element at node `at` of a mesh.
+fn corner_at(r: &freemesh::MeshResult, at: glam::DVec2) -> f64 {
+    let nodes = r.mesh.nodes();
+    let tip = nodes
+        .iter()
+        .position(|&p| (p - at).length() < 1e-12)
+        .unwrap() as u32;
+    let quads: Vec<&[u32; 4]> = r.mesh.quads().iter().filter(|q| q.contains(&tip)).collect();
+    assert_eq!(quads.len(), 1, "one element takes the tip");
+    let q = quads[0];
+    let k = q.iter().position(|&n| n == tip).unwrap();
+    let (a, b) = (
+        nodes[q[(k + 1) % 4] as usize] - at,
+        nodes[q[(k + 3) % 4] as usize] - at,
+    );
+    a.angle_to(b).abs().to_degrees()
+}
+
+/// An arc bulging out of the domain at a tip makes the chords' corner
+/// sharper than the curves' (37.83 deg between the tangents here, 36.7
+/// between chords of the size): the arc's first segments are shortened,
+/// so that the element at the tip is within the judge's half degree of
+/// the tip; with `bound(arc_corner_chord, 0)` (equal segments) it is not.
+#[test]
+fn an_arc_at_a_tip_keeps_the_tips_corner() {
+    let domain = load("tests/sharp/arc-tip.json");
+    let tip = glam::DVec2::new(3.266493401617944, 0.8952959706687499);
+    for (files, kept) in [
+        (&[][..], true),
+        (&["tests/kb/no-arc-corner-chord.pl"][..], false),
+    ] {
+        let mut kb = KnowledgeBase::builtin().unwrap();
+        for f in files {
+            kb.consult_file(f).unwrap();
+        }
+        let r = mesh_domain(&domain, &mut kb, &Options::default(), &mut |_| {}).unwrap();
+        let corner = corner_at(&r, tip);
+        assert_eq!(corner >= 37.83 - 0.5, kept, "{files:?}: {corner}");
+    }
+}

@@ -35,6 +35,29 @@ fn input_corner_angles(mesh: &crate::mesh::Mesh, domain: &Domain) -> Vec<(u32, f
         .collect()
 }
 
+/// The corners at the loops' vertices as the curves' tangents make
+/// them, not the chords (an arc bulging out of the domain makes the
+/// chords' corner sharper): the judge's measure. Elsewhere (a line's
+/// vertex) as the elements add up.
+fn as_the_curves_make_them(
+    mut at: Vec<(u32, f64)>,
+    mesh: &crate::mesh::Mesh,
+    domain: &Domain,
+) -> Vec<(u32, f64)> {
+    let tol = 1e-9 * domain.scale();
+    let mut corners = crate::input::arc_corners::loop_corners(domain);
+    corners.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
+    for (node, angle) in &mut at {
+        let p = mesh.nodes[*node as usize];
+        let from = corners.partition_point(|(v, _)| v.x < p.x - tol);
+        let mut same = corners[from..].iter().take_while(|(v, _)| v.x <= p.x + tol);
+        if let Some(&(_, c)) = same.find(|(v, _)| (*v - p).length() <= tol) {
+            *angle = c;
+        }
+    }
+    at
+}
+
 /// Whether a point is at a vertex of the input (within a billionth of
 /// the domain's scale): the vertices sorted by x, so a point looks at
 /// those of about its x only.
@@ -116,7 +139,8 @@ impl Score {
 
 /// Elements with a corner outside the bounds' window, but for a corner
 /// at a vertex of the input sharper than the window that the element
-/// takes whole (it cannot do better than the input's corner; an input
+/// takes whole, within the input's corner as the curves make it (it
+/// cannot do better than that; an input
 /// corner of 83 deg split into two of 41.5 is outside, as the judge has
 /// it); and their weight, each one plus a step for every `step` degrees
 /// its worst corner lies outside the window; and the elements with a
@@ -128,21 +152,23 @@ fn corners_outside(
     host: &crate::settings::HostBounds,
 ) -> Corners {
     let (step, slack) = (host.out_of_bounds_step, host.corner_slack);
-    let at_input = input_corner_angles(mesh, domain);
+    let at_input = as_the_curves_make_them(input_corner_angles(mesh, domain), mesh, domain);
     let mut c = Corners::default();
     for q in 0..mesh.quads.len() {
         let quad = mesh.quads[q];
         let angles = crate::geometry::quad_angles(mesh.quad_points(q));
         let (mut worst, mut slacked): (Option<f64>, bool) = (None, false);
         for k in 0..4 {
-            let excused = || match at_input.binary_search_by_key(&quad[k], |a| a.0) {
-                Ok(i) => angles[k] >= at_input[i].1 - 1e-6,
-                Err(_) => false,
-            };
+            // the lower of the window's corner and the input's there
+            let tip = at_input
+                .binary_search_by_key(&quad[k], |a| a.0)
+                .map_or(bounds.lower_corner, |i| {
+                    at_input[i].1.min(bounds.lower_corner)
+                });
             let by = if angles[k] > bounds.upper_corner + 1e-9 {
                 angles[k] - bounds.upper_corner
-            } else if angles[k] < bounds.lower_corner && !excused() {
-                bounds.lower_corner - angles[k]
+            } else if angles[k] < tip - 1e-6 {
+                tip - angles[k]
             } else {
                 continue;
             };

@@ -493,6 +493,7 @@ fn take_back_marked(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::arc_corners::CornerAim;
     use crate::input::boundary::discretise;
 
     /// Triangles split in three only (the halving's tests).
@@ -513,7 +514,9 @@ mod tests {
             r#"{{"name": "sq", "size": 1, "outer": {{"points": [[0,0],[{n},0],[{n},{n}],[0,{n}]]}}}}"#
         ))
         .unwrap();
-        let mut mesh = discretise(&domain, 1.0, 0.0, 2.0).unwrap().mesh;
+        let mut mesh = discretise(&domain, 1.0, 0.0, 2.0, &CornerAim::paper())
+            .unwrap()
+            .mesh;
         assert_eq!(mesh.nodes.len(), 4 * n);
         let mut at = |x: f64, y: f64| -> u32 {
             let p = DVec2::new(x, y);

@@ -6,97 +6,10 @@ use glam::DVec2;
 use rustc_hash::FxHashMap;
 
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
-use crate::input::curves::fewest_segments;
-use crate::input::domain::{Chain, Curve, Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
-use crate::input::thin_walls::match_facing_counts;
+use crate::input::arc_corners::{self, CornerAim};
+use crate::input::domain::{Chain, Curve, Domain, DomainError};
+use crate::input::segment_counts::segment_counts;
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
-
-/// The segment count of every edge of every chain (outer, holes, lines in
-/// that order), with an even total: edges facing each other across a wall
-/// thinner than `wall` element sizes get one count (see thin_walls.rs);
-/// where the total of the derived counts is odd, the free edge of a loop
-/// with the longest segments gets one more, outside the walls where it can.
-/// Returns the counts and how many edges a wall's matching covers.
-pub fn segment_counts(
-    domain: &Domain,
-    size: f64,
-    wall: f64,
-) -> Result<(Vec<Vec<usize>>, usize), DomainError> {
-    let mut counts = Vec::new();
-    let mut fixed = Vec::new();
-    let area = domain.area();
-    for chain in domain.chains() {
-        let mut row = Vec::new();
-        for (ei, e) in chain.edges.iter().enumerate() {
-            let n = match e.segments {
-                Some(n) => n,
-                None => {
-                    let est = (e.curve.length() / size).round();
-                    if !est.is_finite() || est > MAX_BOUNDARY_SEGMENTS as f64 {
-                        return Err(DomainError::Geometry(format!(
-                            "{} edge {ei}: size {size} gives about {est:.3e} segments, above the limit of {MAX_BOUNDARY_SEGMENTS}",
-                            chain.label
-                        )));
-                    }
-                    // No segment spans more than 60 deg of arc, so the
-                    // chords stay close to the curve: a circle gets at
-                    // least 6 (4 if it is small in the domain), a half
-                    // circle 3.
-                    (est as usize).max(1).max(fewest_segments(&e.curve, area))
-                }
-            };
-            row.push(n);
-        }
-        fixed.push(
-            chain
-                .edges
-                .iter()
-                .map(|e| e.segments.is_some())
-                .collect::<Vec<_>>(),
-        );
-        counts.push(row);
-    }
-    let in_wall = match_facing_counts(domain, size, wall, &fixed, &mut counts);
-    let n_loops = 1 + domain.holes.len();
-    let mut total: u128 = 0;
-    // (outside the walls, segment length, chain, edge) of the free edges
-    // of loops: the last is the one to get a segment more
-    let mut best_free: Option<(bool, f64, usize, usize)> = None;
-    for (ci, (chain, row)) in domain.chains().zip(&counts).enumerate() {
-        for (ei, (e, &n)) in chain.edges.iter().zip(row).enumerate() {
-            total += n as u128 * if ci >= n_loops { 2 } else { 1 };
-            if ci < n_loops && !fixed[ci][ei] {
-                let cand = (!in_wall[ci][ei], e.curve.length() / n as f64, ci, ei);
-                if best_free.is_none_or(|b| cand >= b) {
-                    best_free = Some(cand);
-                }
-            }
-        }
-    }
-    if total > MAX_BOUNDARY_SEGMENTS as u128 {
-        return Err(DomainError::Geometry(format!(
-            "{total} boundary segments is above the limit of {MAX_BOUNDARY_SEGMENTS}"
-        )));
-    }
-    if total % 2 == 1 {
-        match best_free {
-            Some((_, _, ci, ei)) => counts[ci][ei] += 1,
-            None => {
-                let per: Vec<String> = domain
-                    .chains()
-                    .zip(&counts)
-                    .map(|(c, r)| format!("{} {}", c.label, r.iter().sum::<usize>()))
-                    .collect();
-                return Err(DomainError::Geometry(format!(
-                    "the fixed segment counts total {total}, which is odd: no all-quad mesh exists ({})",
-                    per.join(", ")
-                )));
-            }
-        }
-    }
-    let walled = in_wall.iter().flatten().filter(|&&w| w).count();
-    Ok((counts, walled))
-}
 
 /// The discretised input: the mesh skeleton (boundary nodes and edges) and
 /// the loops of the initial front.
@@ -157,13 +70,15 @@ fn chain_nodes(
     tag_groups: &[u32],
     vertices: &mut Vec<(DVec2, u32)>,
     sources: &mut Vec<usize>,
+    aim: &CornerAim,
 ) -> Vec<u32> {
     let mut pts: Vec<DVec2> = Vec::new();
+    let shares = arc_corners::end_shares(chain, counts, closed, !reverse, aim);
     // the input edge each segment lies on, and which points are vertices
     let mut seg_edge: Vec<usize> = Vec::new();
     let mut is_vertex: Vec<bool> = Vec::new();
     for (ei, (e, &n)) in chain.edges.iter().zip(counts).enumerate() {
-        let p = e.curve.divide(n);
+        let p = arc_corners::divide(&e.curve, n, shares[ei], aim.growth);
         let k = match e.curve {
             Curve::Circle { .. } => p.len(),
             _ => n,
@@ -239,9 +154,10 @@ pub fn discretise(
     size: f64,
     wall: f64,
     jump: f64,
+    aim: &CornerAim,
 ) -> Result<Discretised, DomainError> {
     let (mut counts, thin_wall_edges) = segment_counts(domain, size, wall)?;
-    let (disc, faces, sources) = discretise_with(domain, size, jump, &counts)?;
+    let (disc, faces, sources) = discretise_with(domain, size, jump, aim, &counts)?;
     if faces.iter().all(|f| f.len % 2 == 0) {
         return Ok(Discretised {
             thin_wall_edges,
@@ -249,7 +165,7 @@ pub fn discretise(
         });
     }
     even_regions(domain, &disc.mesh, &faces, &sources, &mut counts)?;
-    let (disc, faces, _) = discretise_with(domain, size, jump, &counts)?;
+    let (disc, faces, _) = discretise_with(domain, size, jump, aim, &counts)?;
     match faces.iter().find(|f| f.len % 2 == 1) {
         None => Ok(Discretised { thin_wall_edges, ..disc }),
         Some(f) => Err(DomainError::Geometry(format!(
@@ -337,6 +253,7 @@ fn discretise_with(
     domain: &Domain,
     size: f64,
     jump: f64,
+    aim: &CornerAim,
     counts: &[Vec<usize>],
 ) -> Result<(Discretised, Vec<Face>, Vec<usize>), DomainError> {
     let mut mesh = Mesh::default();
@@ -376,6 +293,7 @@ fn discretise_with(
             &tag_groups,
             &mut vertices,
             &mut sources,
+            aim,
         );
         chains.push((nodes, closed));
     }
@@ -765,6 +683,7 @@ fn best_cut(
 #[cfg(test)]
 mod tests {
     use super::discretise;
+    use crate::input::arc_corners::CornerAim;
     use crate::input::domain::Domain;
 
     /// A cut does not start at a sharp tip whose input segments are far
@@ -779,7 +698,7 @@ mod tests {
                                       [0, -0.5], [2.49, -0.003]]}]}"#,
         )
         .unwrap();
-        let disc = discretise(&domain, 0.2, 0.0, 2.0).unwrap();
+        let disc = discretise(&domain, 0.2, 0.0, 2.0, &CornerAim::paper()).unwrap();
         assert_eq!(disc.cuts.len(), 1);
         let tip = glam::DVec2::new(2.5, 0.0);
         for end in [disc.cuts[0][0], *disc.cuts[0].last().unwrap()] {
@@ -788,7 +707,7 @@ mod tests {
         }
         // the bound is the KB's to set: with no limit on the jump the
         // shortest cut, from the tip, wins
-        let loose = discretise(&domain, 0.2, 0.0, 100.0).unwrap();
+        let loose = discretise(&domain, 0.2, 0.0, 100.0, &CornerAim::paper()).unwrap();
         let ends = [loose.cuts[0][0], *loose.cuts[0].last().unwrap()];
         assert!(
             ends.iter()

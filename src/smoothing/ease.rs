@@ -69,11 +69,24 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usiz
         next.dedup();
         quads = next;
     }
-    let rails = if bounds.boundary_slide > 0.0 {
+    let mut rails = if bounds.boundary_slide > 0.0 {
         boundary_rails(mesh)
     } else {
         vec![None; mesh.nodes.len()]
     };
+    // an element at a tip of the input takes its corner from the nodes
+    // either side (the first segments' chords): one on an arc stays,
+    // lest a slide along it make the tip sharper than the input's
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        for (k, tip) in fixed_tips(mesh, q, bounds).into_iter().enumerate() {
+            let tip = tip && mesh.is_input_vertex(quad[k] as usize);
+            for side in [quad[(k + 1) % 4] as usize, quad[(k + 3) % 4] as usize] {
+                if tip && rails[side].is_some_and(|r| on_an_arc(mesh, side, r)) {
+                    rails[side] = None;
+                }
+            }
+        }
+    }
     let nodes: Vec<usize> = (0..mesh.nodes.len())
         .filter(|&n| {
             near[n]
@@ -177,6 +190,15 @@ fn strain(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
                 .sum::<f64>()
         })
         .sum()
+}
+
+/// Whether a boundary node's rail is an arc's circle.
+fn on_an_arc(mesh: &Mesh, n: usize, (a, b): (u32, u32)) -> bool {
+    let at = |i: u32| mesh.nodes[i as usize];
+    matches!(
+        rail_through(at(a), mesh.nodes[n], at(b)),
+        Some((Rail::Arc(..), _))
+    )
 }
 
 /// The curve a boundary node may slide along, between its two boundary
