@@ -489,6 +489,19 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
     assert_eq!(r.trace[0].action, "retry(gentler_grading)");
 }
 
+/// A traced run of `d` whose mesh kept is the one meshed as without its
+/// `max_size` (`uniform(...)`), within the bounds.
+fn kept_without_max_size(kb: &mut KnowledgeBase, d: &Domain, name: &str) -> MeshResult {
+    let r = traced_run(kb, d);
+    within_the_bounds(&r, name);
+    assert!(
+        r.trace[0].action.starts_with("uniform("),
+        "{:?}",
+        r.trace[0]
+    );
+    r
+}
+
 /// A graded mesh still short after its retries is meshed as without its
 /// `max_size` (blocks first, retries and all), and that mesh kept where
 /// it is within the bounds (`bound(uniform_when_graded_short, 1)`): a
@@ -499,13 +512,7 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
 #[test]
 fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
     let d = load("tests/graded/star-uniform.json");
-    let r = traced_run(&mut kb_with(AS_BOUND), &d);
-    within_the_bounds(&r, "star without max_size");
-    assert!(
-        r.trace[0].action.starts_with("uniform("),
-        "{:?}",
-        r.trace[0]
-    );
+    let r = kept_without_max_size(&mut kb_with(AS_BOUND), &d, "star without max_size");
     let told = &r.trace[0].redesign;
     let at = told
         .iter()
@@ -547,12 +554,10 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
 #[test]
 fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
     let d = load("tests/graded/mapped-corner-slack.json");
-    let r = traced_run(&mut KnowledgeBase::builtin().unwrap(), &d);
-    within_the_bounds(&r, "mapped, corner slack");
-    assert!(
-        r.trace[0].action.starts_with("uniform("),
-        "{:?}",
-        r.trace[0]
+    let r = kept_without_max_size(
+        &mut KnowledgeBase::builtin().unwrap(),
+        &d,
+        "mapped, corner slack",
     );
     let told = &r.trace[0].redesign;
     assert!(

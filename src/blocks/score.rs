@@ -44,14 +44,12 @@ fn as_the_curves_make_them(
     mesh: &crate::mesh::Mesh,
     domain: &Domain,
 ) -> Vec<(u32, f64)> {
-    let tol = 1e-9 * domain.scale();
-    let mut corners = crate::input::arc_corners::loop_corners(domain);
-    corners.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
+    let corner_at = by_position(
+        crate::input::arc_corners::loop_corners(domain),
+        1e-9 * domain.scale(),
+    );
     for (node, angle) in &mut at {
-        let p = mesh.nodes[*node as usize];
-        let from = corners.partition_point(|(v, _)| v.x < p.x - tol);
-        let mut same = corners[from..].iter().take_while(|(v, _)| v.x <= p.x + tol);
-        if let Some(&(_, c)) = same.find(|(v, _)| (*v - p).length() <= tol) {
+        if let Some(c) = corner_at(mesh.nodes[*node as usize]) {
             *angle = c;
         }
     }
@@ -59,21 +57,31 @@ fn as_the_curves_make_them(
 }
 
 /// Whether a point is at a vertex of the input (within a billionth of
-/// the domain's scale): the vertices sorted by x, so a point looks at
-/// those of about its x only.
+/// the domain's scale).
 fn input_vertices(domain: &Domain) -> impl Fn(glam::DVec2) -> bool {
-    let tol = 1e-9 * domain.scale();
-    let mut vertices: Vec<glam::DVec2> = domain
+    let vertices = domain
         .chains()
         .flat_map(crate::input::curves::chain_vertices)
+        .map(|v| (v, ()))
         .collect();
-    vertices.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let at = by_position(vertices, 1e-9 * domain.scale());
+    move |p: glam::DVec2| at(p).is_some()
+}
+
+/// What is told of the point within `tol` of a point, if one is: the
+/// points sorted by x, so a point looks at those of about its x only.
+fn by_position<T: Copy>(
+    mut items: Vec<(glam::DVec2, T)>,
+    tol: f64,
+) -> impl Fn(glam::DVec2) -> Option<T> {
+    items.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
     move |p: glam::DVec2| {
-        let from = vertices.partition_point(|v| v.x < p.x - tol);
-        vertices[from..]
+        let from = items.partition_point(|(v, _)| v.x < p.x - tol);
+        items[from..]
             .iter()
-            .take_while(|v| v.x <= p.x + tol)
-            .any(|v| (*v - p).length() <= tol)
+            .take_while(|(v, _)| v.x <= p.x + tol)
+            .find(|(v, _)| (*v - p).length() <= tol)
+            .map(|&(_, t)| t)
     }
 }
 
@@ -255,18 +263,29 @@ mod tests {
     use crate::mesh::{Mesh, NodeKind};
     use glam::DVec2;
 
-    /// `n` unit rhombi side by side, each with corners of `deg` and
-    /// 180 - `deg`.
     /// `corners_outside` with the built-in element bounds and the given
-    /// step and slack.
-    fn counted(m: &Mesh, domain: &Domain, step: f64, slack: f64) -> Corners {
+    /// step and slack, on a domain away from the elements (no corner of
+    /// theirs at a vertex of it).
+    fn counted(m: &Mesh, step: f64, slack: f64) -> Corners {
+        let domain = Domain::from_json_str(
+            r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
+        )
+        .unwrap();
         let host = crate::settings::HostBounds {
             out_of_bounds_step: step,
             corner_slack: slack,
             ..Default::default()
         };
-        corners_outside(m, &crate::settings::ElementBounds::default(), domain, &host)
+        corners_outside(
+            m,
+            &crate::settings::ElementBounds::default(),
+            &domain,
+            &host,
+        )
     }
+
+    /// `n` unit rhombi side by side, each with corners of `deg` and
+    /// 180 - `deg`.
 
     fn rhombi(n: usize, deg: f64) -> Mesh {
         let mut m = Mesh::default();
@@ -287,13 +306,8 @@ mod tests {
     /// 44, so the mesh kept where all fall short is the nearer one.
     #[test]
     fn an_element_far_outside_the_window_weighs_more_than_several_just_outside() {
-        // no corner of these meshes at a vertex of the domain
-        let domain = Domain::from_json_str(
-            r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
-        )
-        .unwrap();
         let out = |m: &Mesh, step: f64| {
-            let c = counted(m, &domain, step, 0.0);
+            let c = counted(m, step, 0.0);
             (c.outside, c.weight)
         };
         assert_eq!(out(&rhombi(1, 60.0), 5.0), (0, 0));
@@ -311,12 +325,8 @@ mod tests {
     /// out is counted, its weight from the window itself.
     #[test]
     fn a_corner_within_the_slack_counts_as_within_the_window() {
-        let domain = Domain::from_json_str(
-            r#"{"size": 1, "outer": {"points": [[-9, -9], [-8, -9], [-8, -8]]}}"#,
-        )
-        .unwrap();
         let out = |m: &Mesh, slack: f64| {
-            let c = counted(m, &domain, 5.0, slack);
+            let c = counted(m, 5.0, slack);
             (c.outside, c.weight, c.slacked)
         };
         assert_eq!(out(&rhombi(2, 44.7), 0.0), (2, 2, 0));

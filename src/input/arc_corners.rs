@@ -212,12 +212,7 @@ fn is_arc(c: &Curve) -> bool {
 
 /// The unit tangent of a curve at `p` on it, the way `along` runs.
 fn travel_tangent(c: &Curve, p: DVec2, along: DVec2) -> DVec2 {
-    let t = match *c {
-        Curve::Line { a, b } => b - a,
-        Curve::Arc { a, b, bulge } => (p - Curve::arc_frame(a, b, bulge).0).perp(),
-        Curve::Circle { center, .. } => (p - center).perp(),
-    }
-    .normalize_or_zero();
+    let t = c.tangent_at(p);
     if t.dot(along) < 0.0 {
         -t
     } else {

@@ -124,6 +124,19 @@ impl Curve {
         }
     }
 
+    /// The unit tangent at `p` on the curve, the way it runs (a to b;
+    /// a circle counter-clockwise).
+    pub fn tangent_at(&self, p: DVec2) -> DVec2 {
+        match *self {
+            Curve::Line { a, b } => (b - a).normalize_or_zero(),
+            Curve::Arc { a, b, bulge } => {
+                let (centre, ..) = Self::arc_frame(a, b, bulge);
+                (p - centre).perp().normalize_or_zero() * bulge.signum()
+            }
+            Curve::Circle { center, .. } => (p - center).perp().normalize_or_zero(),
+        }
+    }
+
     /// Distance from `p` to the curve.
     pub fn distance(&self, p: DVec2) -> f64 {
         (self.project(p) - p).length()

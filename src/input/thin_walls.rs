@@ -18,18 +18,6 @@ const SAMPLES: usize = 16;
 /// Share of an edge's samples that must face the other edge.
 const FACING_SHARE: f64 = 0.8;
 
-/// The unit tangent of a curve at a point on it.
-fn tangent_at(c: &Curve, p: DVec2) -> DVec2 {
-    match *c {
-        Curve::Line { a, b } => (b - a).normalize_or_zero(),
-        Curve::Arc { a, b, bulge } => {
-            let (centre, ..) = Curve::arc_frame(a, b, bulge);
-            (p - centre).perp().normalize_or_zero() * bulge.signum()
-        }
-        Curve::Circle { center, .. } => (p - center).perp().normalize_or_zero(),
-    }
-}
-
 /// The share of `e`'s samples from which `f` is within `gap`, across (the
 /// way to it within 30 degrees of `e`'s normal) and running along `e`
 /// (their tangents within 30 degrees, either way round).
@@ -43,8 +31,8 @@ fn facing_share(e: &Curve, f: &Curve, gap: f64) -> f64 {
             if d == 0.0 || d > gap {
                 return false;
             }
-            let te = tangent_at(e, p);
-            ((q - p) / d).dot(te).abs() < 0.5 && te.dot(tangent_at(f, q)).abs() > 0.866
+            let te = e.tangent_at(p);
+            ((q - p) / d).dot(te).abs() < 0.5 && te.dot(f.tangent_at(q)).abs() > 0.866
         })
         .count();
     facing as f64 / SAMPLES as f64
