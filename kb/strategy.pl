@@ -150,7 +150,9 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   at such a tip whose other corners are at most 135 deg, the sides
 %   across the tip are at most 1.41 sin(tip/2) times those along it, a
 %   taper above 10 under 8.1 deg, so no retry would come within the
-%   bounds (the trace's first step says so).
+%   bounds (the trace's first step says so). Choosing among meshes, the
+%   element at such a tip is left out of the aspect and taper counted:
+%   a mesh past the bounds there alone is as near as any, and kept.
 % blocks_first: a uniform run (no --blocks, no cracks) is meshed in
 %   blocks first (the paper's Fig. 17: the rules lay out mapping
 %   elements at a coarse size, each meshed as a structured grid), on the

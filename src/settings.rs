@@ -266,7 +266,9 @@ pub struct HostBounds {
     /// `retry_sharpest_corner`: the retries of `retry_bound/3` are not
     /// tried on a domain with an input corner sharper than this (deg): no
     /// element at it meets the taper bound, so none would come within
-    /// the bounds (see blocks/mod.rs, `mesh_free_then_blocks`).
+    /// the bounds (see blocks/mod.rs, `mesh_free_then_blocks`); the
+    /// element at such a tip is left out of the aspect and taper that
+    /// choose among meshes (blocks/score.rs).
     pub retry_sharpest_corner: f64,
     /// `blocks_first`: a uniform run (without `--blocks`, no cracks) is
     /// meshed in blocks first, and where a layout's mesh is within the

@@ -110,10 +110,20 @@ impl Score {
     ) -> Score {
         let (q, bounds) = (&r.quality, &settings.element);
         let over = |x: f64, bound: f64| usize::from(x > bound);
-        let overs = over(q.max_aspect, bounds.max_aspect)
-            + over(q.max_taper, bounds.max_taper)
+        let at_input =
+            as_the_curves_make_them(input_corner_angles(&r.mesh, domain), &r.mesh, domain);
+        // an element at a tip too sharp for any to meet the taper bound
+        // is as near as one can be: only the others' shapes count
+        let (aspect, taper) = if q.max_aspect > bounds.max_aspect || q.max_taper > bounds.max_taper
+        {
+            shapes_but_at_sharp_tips(&r.mesh, &at_input, settings.host.retry_sharpest_corner)
+        } else {
+            (q.max_aspect, q.max_taper)
+        };
+        let overs = over(aspect, bounds.max_aspect)
+            + over(taper, bounds.max_taper)
             + over(q.max_size_jump, bounds.max_size_jump);
-        let c = corners_outside(&r.mesh, bounds, domain, &settings.host);
+        let c = corners_outside(&r.mesh, bounds, &at_input, &settings.host);
         Score {
             weight: c.weight + overs,
             outside: c.outside + overs,
@@ -156,11 +166,10 @@ impl Score {
 fn corners_outside(
     mesh: &crate::mesh::Mesh,
     bounds: &crate::settings::ElementBounds,
-    domain: &Domain,
+    at_input: &[(u32, f64)],
     host: &crate::settings::HostBounds,
 ) -> Corners {
     let (step, slack) = (host.out_of_bounds_step, host.corner_slack);
-    let at_input = as_the_curves_make_them(input_corner_angles(mesh, domain), mesh, domain);
     let mut c = Corners::default();
     for q in 0..mesh.quads.len() {
         let quad = mesh.quads[q];
@@ -194,6 +203,27 @@ fn corners_outside(
         }
     }
     c
+}
+
+/// The largest aspect ratio and taper among the elements with no corner
+/// at an input corner sharper than `sharp` degrees (`at_input`: the
+/// nodes at the input's vertices, sorted, with their corners): at such a
+/// tip no element meets the taper bound (`bound(retry_sharpest_corner,
+/// D)`), so the one there is as near as any would be.
+fn shapes_but_at_sharp_tips(
+    mesh: &crate::mesh::Mesh,
+    at_input: &[(u32, f64)],
+    sharp: f64,
+) -> (f64, f64) {
+    let at_sharp_tip = |node: u32| {
+        at_input
+            .binary_search_by_key(&node, |a| a.0)
+            .is_ok_and(|i| at_input[i].1 < sharp)
+    };
+    (0..mesh.quads.len())
+        .filter(|&q| !mesh.quads[q].iter().any(|&n| at_sharp_tip(n)))
+        .map(|q| crate::element_quality::aspect_taper(mesh.quad_points(q)))
+        .fold((1.0, 1.0), |(a, t), (qa, qt)| (a.max(qa), t.max(qt)))
 }
 
 /// What `corners_outside` counts.
@@ -276,17 +306,17 @@ mod tests {
             corner_slack: slack,
             ..Default::default()
         };
+        let at_input = as_the_curves_make_them(input_corner_angles(m, &domain), m, &domain);
         corners_outside(
             m,
             &crate::settings::ElementBounds::default(),
-            &domain,
+            &at_input,
             &host,
         )
     }
 
     /// `n` unit rhombi side by side, each with corners of `deg` and
     /// 180 - `deg`.
-
     fn rhombi(n: usize, deg: f64) -> Mesh {
         let mut m = Mesh::default();
         let (c, s) = (deg.to_radians().cos(), deg.to_radians().sin());
@@ -318,6 +348,33 @@ mod tests {
         assert_eq!(out(&rhombi(1, 2.0), 5.0), (1, 9));
         // a step of 0 counts each element once
         assert_eq!(out(&rhombi(1, 2.0), 0.0), (1, 1));
+    }
+
+    /// An element at an input tip sharper than
+    /// `bound(retry_sharpest_corner, D)` cannot meet the taper bound: its
+    /// shape is left out of the mesh's, so a mesh whose only element past
+    /// the bounds is that one counts as within them (no further mesh is
+    /// tried for it); at a blunter tip it counts.
+    #[test]
+    fn the_element_at_a_tip_too_sharp_for_the_taper_bound_is_left_out() {
+        let mut m = rhombi(1, 80.0);
+        // a kite at node 4 with a 5 deg corner there: sides 1 and 0.09
+        let (half, long) = (2.5f64.to_radians(), 1.0);
+        let tip = DVec2::new(10.0, 0.0);
+        let a = tip + long * DVec2::new(half.cos(), -half.sin());
+        let b = tip + long * DVec2::new(half.cos(), half.sin());
+        let c = tip + DVec2::new(long * half.cos() + 0.06, 0.0);
+        let base = m.nodes.len() as u32;
+        for p in [tip, a, c, b] {
+            m.add_node(p, NodeKind::Boundary);
+        }
+        m.quads.push([base, base + 1, base + 2, base + 3]);
+        let kite = crate::element_quality::aspect_taper(m.quad_points(1));
+        assert!(kite.1 > 10.0, "{kite:?}");
+        let rhombus = crate::element_quality::aspect_taper(m.quad_points(0));
+        assert_eq!(shapes_but_at_sharp_tips(&m, &[(base, 5.0)], 8.1), rhombus);
+        let blunt = shapes_but_at_sharp_tips(&m, &[(base, 12.0)], 8.1);
+        assert_eq!(blunt.1, kite.1.max(rhombus.1));
     }
 
     /// A corner within `bound(corner_slack, D)` degrees outside the
