@@ -251,6 +251,12 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   this share of the way between its neighbours from either: in a spike
 %   or a slot nearly every node is on the boundary, and the elements
 %   there have no other room. 0: boundary nodes stay where they were put.
+% polish_rings: where an element is still past the bounds after the
+%   easing, the free nodes within this many rings of elements round it
+%   move together (smoothing moves one at a time, and a corner or a size
+%   jump two nodes hold stays), by a descent on a soft maximum of the
+%   region's corners, size jumps, aspect ratios and tapers, each as a
+%   share of its bound; kept where the worst of them gets better. 0: never.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -302,6 +308,7 @@ bound(closing_loop_segments, 12).
 bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
+bound(polish_rings, 2).
 bound(coarser_when_over, 1.2).
 bound(blocks_over_free, 1.25).
 bound(uniform_when_graded_short, 1).

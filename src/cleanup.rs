@@ -594,25 +594,7 @@ mod tests {
     /// Three by three unit squares (nodes 0..16), the middle element made
     /// a sliver by pulling two of its free corners together.
     fn grid_with_sliver() -> Mesh {
-        let mut m = Mesh::default();
-        for y in 0..4 {
-            for x in 0..4 {
-                let inner = (1..3).contains(&x) && (1..3).contains(&y);
-                let kind = if inner {
-                    NodeKind::Interior
-                } else {
-                    NodeKind::Boundary
-                };
-                m.add_node(DVec2::new(x as f64, y as f64), kind);
-            }
-        }
-        let id = |x: u32, y: u32| y * 4 + x;
-        for y in 0..3 {
-            for x in 0..3 {
-                m.quads
-                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
+        let mut m = crate::mesh::three_by_three();
         // the middle element: corners 5, 6, 10, 9; 5 and 10 pulled together
         m.nodes[5] = DVec2::new(1.45, 1.45);
         m.nodes[10] = DVec2::new(1.55, 1.55);

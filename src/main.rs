@@ -600,6 +600,13 @@ fn mesh_one(
             result.stats.cleanup_collapses,
             result.stats.cleanup_splits
         );
+        if result.stats.polished > 0 {
+            eprintln!(
+                "{}: polishing brought {} regions round elements past the bounds nearer them (bound(polish_rings, R))",
+                domain.name(),
+                result.stats.polished
+            );
+        }
         if result.stats.boundary_slides > 0 {
             eprintln!(
                 "{}: easing slid boundary nodes along their input edges {} times (bound(boundary_slide, S))",

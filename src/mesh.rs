@@ -227,3 +227,29 @@ impl Mesh {
             .sum()
     }
 }
+
+/// Three by three unit squares (nodes 0..16 by rows, the four inner ones
+/// free), each element counter-clockwise from its lower left node.
+#[cfg(test)]
+pub(crate) fn three_by_three() -> Mesh {
+    let mut m = Mesh::default();
+    for y in 0..4 {
+        for x in 0..4 {
+            let inner = (1..3).contains(&x) && (1..3).contains(&y);
+            let kind = if inner {
+                NodeKind::Interior
+            } else {
+                NodeKind::Boundary
+            };
+            m.add_node(DVec2::new(x as f64, y as f64), kind);
+        }
+    }
+    let id = |x: u32, y: u32| y * 4 + x;
+    for y in 0..3 {
+        for x in 0..3 {
+            m.quads
+                .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    m
+}

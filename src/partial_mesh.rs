@@ -57,6 +57,9 @@ pub struct MeshStats {
     /// Moves of easing that slid a boundary node along its straight
     /// input edge (`bound(boundary_slide, S)`).
     pub boundary_slides: usize,
+    /// Regions round elements past the bounds that polishing brought
+    /// nearer them (`bound(polish_rings, R)`).
+    pub polished: usize,
     /// Input edges given one segment count with the edges they face
     /// across a wall thinner than `bound(thin_wall, K)` element sizes.
     pub thin_wall_edges: usize,

@@ -56,6 +56,9 @@ pub struct Options {
     /// against the elements near it for overlaps, and the fallbacks'
     /// passes are reported on standard error. Slow; it changes no mesh.
     pub self_check: bool,
+    /// Whether elements past the bounds are polished at the end (not in
+    /// a block layout: its elements are blocks to be). Default true.
+    pub polish: bool,
 }
 
 impl Default for Options {
@@ -66,6 +69,7 @@ impl Default for Options {
             smoothing_passes: 30,
             trace: true,
             self_check: false,
+            polish: true,
         }
     }
 }
@@ -750,6 +754,11 @@ pub(crate) fn finish_mesh(
     let enclosed = mesh.loops_area();
     let slid = smoothing::ease_bad_corners(&mut mesh, bounds).1;
     stats.boundary_slides += slid;
+    stats.polished = if opts.polish {
+        smoothing::polish_past_bounds(&mut mesh, bounds)
+    } else {
+        0
+    };
     let area = if slid > 0 {
         area + mesh.loops_area() - enclosed
     } else {

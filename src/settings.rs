@@ -76,10 +76,18 @@ pub struct ElementBounds {
     /// input edge along it (straight or arc), keeping at least this share of the
     /// way between its neighbours from either (0: no boundary node moves).
     pub boundary_slide: f64,
+    /// `polish_rings`: the free nodes within this many rings of elements
+    /// round an element still past the bounds after smoothing and
+    /// clean-up move together to bring it within (0: never; see
+    /// smoothing/polish.rs).
+    pub polish_rings: f64,
 }
 
 /// The built-in `bound(boundary_slide, _)` (kb/strategy.pl).
 pub const BOUNDARY_SLIDE: f64 = 0.2;
+
+/// The built-in `bound(polish_rings, _)` (kb/strategy.pl).
+pub const POLISH_RINGS: f64 = 2.0;
 
 impl Default for ElementBounds {
     /// The paper's bounds: corners in [45, 135], aspect ratio and taper
@@ -133,6 +141,21 @@ impl ElementBounds {
             cos2_lower: cos2(lower_corner),
             cos2_upper: cos2(upper_corner),
             boundary_slide: BOUNDARY_SLIDE,
+            polish_rings: POLISH_RINGS,
+        })
+    }
+
+    /// These bounds with `bound(polish_rings, rings)`, or a sentence
+    /// saying it is out of range (a whole number from 0 to 4).
+    pub fn with_polish_rings(self, rings: f64) -> Result<ElementBounds, String> {
+        if !((0.0..=4.0).contains(&rings) && rings.fract() == 0.0) {
+            return Err(format!(
+                "bound(polish_rings, {rings}) must be a whole number from 0 to 4"
+            ));
+        }
+        Ok(ElementBounds {
+            polish_rings: rings,
+            ..self
         })
     }
 

@@ -514,6 +514,7 @@ fn block_layout(
     let layout_opts = Options {
         size: Some(coarse),
         max_size: Some(coarse),
+        polish: false,
         ..opts.clone()
     };
     let layout_domain = layout_for(domain, coarse, arc_step);

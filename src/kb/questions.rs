@@ -27,6 +27,7 @@ impl KnowledgeBase {
         let strategy = terms::strategy_answer(strategy)?;
         let rounds = self.bound("redesign_rounds")?;
         let slide = self.bound("boundary_slide")?;
+        let polish = self.bound("polish_rings")?;
         let element = ElementBounds::new(
             self.bound("lower_corner")?,
             self.bound("upper_corner")?,
@@ -35,6 +36,7 @@ impl KnowledgeBase {
             self.bound("max_size_jump")?,
         )
         .and_then(|e| e.with_boundary_slide(slide))
+        .and_then(|e| e.with_polish_rings(polish))
         .map_err(|why| KbError::Answer {
             query: "bound/2".into(),
             answer: why,

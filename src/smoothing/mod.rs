@@ -10,6 +10,7 @@
 mod compass;
 mod ease;
 mod laplace;
+mod polish;
 mod sizes;
 mod stage;
 mod strips;
@@ -20,4 +21,5 @@ pub(crate) mod tests;
 
 pub use compass::compass_search_steps;
 pub use ease::ease_bad_corners;
+pub use polish::polish_past_bounds;
 pub use stage::{smooth, smooth_near};

@@ -1,0 +1,436 @@
+//! Polishing what is left just past the bounds. Smoothing, the clean-up's
+//! local smoothing and the easing each move one node at a time, so a
+//! corner or a size jump that two nodes hold between them stays where
+//! it is. Here the free nodes within `bound(polish_rings, R)` rings of
+//! each element still past the paper's bounds move together: a descent
+//! on a soft maximum of every measure of the elements they touch
+//! (corners against the window, size jumps against neighbours, aspect
+//! ratio and taper, each as a share of its bound), kept only where the
+//! worst of those measures gets better and no element turns over.
+
+use glam::DVec2;
+
+use crate::mesh::{Mesh, NodeKind};
+use crate::settings::ElementBounds;
+
+/// The soft maximum's sharpness, raised in turn: a broad one first (the
+/// region as a whole moves), then sharper ones (the worst measure alone).
+const SHARPNESS: [f64; 3] = [30.0, 100.0, 300.0];
+
+/// Descent steps at each sharpness, at most.
+const STEPS: usize = 60;
+
+/// A region with more free nodes than this is left as it is (the
+/// descent's cost grows with their square).
+const MOST_FREE_NODES: usize = 120;
+
+/// Moves the free nodes round the elements past `bounds` (see the
+/// module's comment); returns how many regions got better.
+pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
+    let rings = bounds.polish_rings as usize;
+    if rings == 0 || mesh.quads.is_empty() {
+        return 0;
+    }
+    let around = elements_round_nodes(mesh);
+    let edges = Edges::of(mesh);
+    let fixed_corner = fixed_corners(mesh);
+    let windows = corner_windows(mesh, &around, bounds);
+    let past: Vec<u32> = (0..mesh.quads.len() as u32)
+        .filter(|&q| {
+            let m = Measures::of(mesh, &[q], &edges, &fixed_corner, &windows, bounds);
+            m.worst() > 0.0
+        })
+        .collect();
+    let mut done = vec![false; mesh.quads.len()];
+    let mut better = 0;
+    for &q in &past {
+        if done[q as usize] {
+            continue;
+        }
+        let free = free_nodes_near(mesh, &around, q, rings);
+        if free.is_empty() || free.len() > MOST_FREE_NODES {
+            continue;
+        }
+        let touched = elements_of(&around, &free);
+        for &t in &touched {
+            done[t as usize] = true;
+        }
+        if polish_region(
+            mesh,
+            &free,
+            &touched,
+            &edges,
+            &fixed_corner,
+            &windows,
+            bounds,
+        ) {
+            better += 1;
+        }
+    }
+    better
+}
+
+/// One region: its free nodes moved together by a descent on the soft
+/// maximum of its elements' measures; kept if the worst got better.
+fn polish_region(
+    mesh: &mut Mesh,
+    free: &[u32],
+    touched: &[u32],
+    edges: &Edges,
+    fixed_corner: &[bool],
+    windows: &[(f64, f64)],
+    bounds: &ElementBounds,
+) -> bool {
+    let start: Vec<DVec2> = free.iter().map(|&n| mesh.nodes[n as usize]).collect();
+    let before = Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).past();
+    let h = shortest_edge(mesh, touched);
+    if h.is_nan() || h <= 0.0 {
+        return false;
+    }
+    let mut x = start.clone();
+    for beta in SHARPNESS {
+        let value = |mesh: &mut Mesh, x: &[DVec2]| {
+            place(mesh, free, x);
+            if turned_over(mesh, touched) {
+                return f64::INFINITY;
+            }
+            Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).soft_max(beta)
+        };
+        let mut f = value(mesh, &x);
+        let mut step = 0.05 * h;
+        let delta = 1e-5 * h;
+        for _ in 0..STEPS {
+            // the gradient by central differences, node by node
+            let mut g = vec![DVec2::ZERO; x.len()];
+            for i in 0..x.len() {
+                for axis in 0..2 {
+                    let mut y = x.clone();
+                    y[i][axis] += delta;
+                    let up = value(mesh, &y);
+                    y[i][axis] -= 2.0 * delta;
+                    let down = value(mesh, &y);
+                    g[i][axis] = if up.is_finite() && down.is_finite() {
+                        (up - down) / (2.0 * delta)
+                    } else {
+                        0.0
+                    };
+                }
+            }
+            let norm = g.iter().map(|v| v.length_squared()).sum::<f64>().sqrt();
+            if norm.is_nan() || norm <= 0.0 {
+                break;
+            }
+            // a step of `step` along the steepest descent, longer after
+            // a success, shorter after a failure
+            let mut moved = false;
+            while step > 1e-6 * h {
+                let y: Vec<DVec2> = x
+                    .iter()
+                    .zip(&g)
+                    .map(|(p, d)| *p - *d * (step / norm))
+                    .collect();
+                let fy = value(mesh, &y);
+                if fy < f {
+                    (x, f, moved) = (y, fy, true);
+                    step *= 1.5;
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !moved {
+                break;
+            }
+        }
+    }
+    place(mesh, free, &x);
+    // kept where no more measures are past their bounds and the worst
+    // is better, or fewer are and the worst no worse
+    let after = if turned_over(mesh, touched) {
+        (usize::MAX, f64::INFINITY)
+    } else {
+        Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).past()
+    };
+    let better = (after.0 <= before.0 && after.1 < before.1 - 1e-9)
+        || (after.0 < before.0 && after.1 <= before.1);
+    if better {
+        true
+    } else {
+        place(mesh, free, &start);
+        false
+    }
+}
+
+fn place(mesh: &mut Mesh, free: &[u32], x: &[DVec2]) {
+    for (&n, &p) in free.iter().zip(x) {
+        mesh.nodes[n as usize] = p;
+    }
+}
+
+/// Whether an element of `qs` has a corner of no positive turn (turned
+/// over or folded).
+fn turned_over(mesh: &Mesh, qs: &[u32]) -> bool {
+    qs.iter().any(|&q| {
+        let p = mesh.quad_points(q as usize);
+        (0..4).any(|i| (p[(i + 1) % 4] - p[i]).perp_dot(p[(i + 3) % 4] - p[i]) <= 0.0)
+    })
+}
+
+fn shortest_edge(mesh: &Mesh, qs: &[u32]) -> f64 {
+    qs.iter()
+        .flat_map(|&q| {
+            let p = mesh.quad_points(q as usize);
+            (0..4).map(move |i| (p[(i + 1) % 4] - p[i]).length())
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The elements at each node.
+fn elements_round_nodes(mesh: &Mesh) -> Vec<Vec<u32>> {
+    let mut around = vec![Vec::new(); mesh.nodes.len()];
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        for &n in quad {
+            around[n as usize].push(q as u32);
+        }
+    }
+    around
+}
+
+/// The elements at any of `nodes`, sorted.
+fn elements_of(around: &[Vec<u32>], nodes: &[u32]) -> Vec<u32> {
+    let mut qs: Vec<u32> = nodes
+        .iter()
+        .flat_map(|&n| around[n as usize].iter().copied())
+        .collect();
+    qs.sort_unstable();
+    qs.dedup();
+    qs
+}
+
+/// The interior nodes within `rings` rings of elements round element q,
+/// sorted.
+fn free_nodes_near(mesh: &Mesh, around: &[Vec<u32>], q: u32, rings: usize) -> Vec<u32> {
+    let mut nodes: Vec<u32> = mesh.quads[q as usize].to_vec();
+    for _ in 1..rings {
+        nodes = elements_of(around, &nodes)
+            .into_iter()
+            .flat_map(|o| mesh.quads[o as usize])
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+    }
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes.retain(|&n| mesh.kinds[n as usize] == NodeKind::Interior);
+    nodes
+}
+
+/// Per corner (4 q + k), whether no move of a free node changes it: its
+/// node and both neighbours in the element fixed (a lone element at a
+/// boundary node, an input corner). Such a corner is left out of the
+/// measures: nothing here can change it.
+fn fixed_corners(mesh: &Mesh) -> Vec<bool> {
+    let fixed = |n: u32| mesh.kinds[n as usize] != NodeKind::Interior;
+    mesh.quads
+        .iter()
+        .flat_map(|quad| {
+            (0..4).map(move |k| {
+                fixed(quad[k]) && fixed(quad[(k + 1) % 4]) && fixed(quad[(k + 3) % 4])
+            })
+        })
+        .collect()
+}
+
+/// Per node, the window its elements' corners are measured against:
+/// the bounds', but at a boundary node whose elements share a corner
+/// too sharp (or too wide) for all to be within it, their even share of
+/// that corner (as near as they can come).
+fn corner_windows(mesh: &Mesh, around: &[Vec<u32>], bounds: &ElementBounds) -> Vec<(f64, f64)> {
+    (0..mesh.nodes.len())
+        .map(|n| {
+            let window = (bounds.lower_corner, bounds.upper_corner);
+            if mesh.kinds[n] == NodeKind::Interior || around[n].is_empty() {
+                return window;
+            }
+            let total: f64 = around[n]
+                .iter()
+                .map(|&q| {
+                    let quad = mesh.quads[q as usize];
+                    let k = quad.iter().position(|&m| m as usize == n).unwrap_or(0);
+                    crate::geometry::quad_angles(mesh.quad_points(q as usize))[k]
+                })
+                .sum();
+            let share = total / around[n].len() as f64;
+            (window.0.min(share), window.1.max(share))
+        })
+        .collect()
+}
+
+/// The elements across each element's edges (None on the boundary).
+struct Edges {
+    across: Vec<[Option<u32>; 4]>,
+}
+
+impl Edges {
+    fn of(mesh: &Mesh) -> Edges {
+        let mut by_edge: rustc_hash::FxHashMap<(u32, u32), (u32, usize)> = Default::default();
+        let mut across = vec![[None; 4]; mesh.quads.len()];
+        for (q, quad) in mesh.quads.iter().enumerate() {
+            for k in 0..4 {
+                let (a, b) = (quad[k], quad[(k + 1) % 4]);
+                let key = (a.min(b), a.max(b));
+                if let Some(&(o, j)) = by_edge.get(&key) {
+                    across[q][k] = Some(o);
+                    across[o as usize][j] = Some(q as u32);
+                } else {
+                    by_edge.insert(key, (q as u32, k));
+                }
+            }
+        }
+        Edges { across }
+    }
+}
+
+/// Every measure of some elements as a share of its bound past it
+/// (negative within): corners against the window, size jumps against
+/// the neighbours, aspect ratio and taper.
+struct Measures {
+    values: Vec<f64>,
+}
+
+impl Measures {
+    fn of(
+        mesh: &Mesh,
+        qs: &[u32],
+        edges: &Edges,
+        fixed_corner: &[bool],
+        windows: &[(f64, f64)],
+        bounds: &ElementBounds,
+    ) -> Measures {
+        let mut values = Vec::with_capacity(qs.len() * 10);
+        let area = |q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
+        for &q in qs {
+            let p = mesh.quad_points(q as usize);
+            let angles = crate::geometry::quad_angles(p);
+            let quad = mesh.quads[q as usize];
+            for (k, a) in angles.iter().enumerate() {
+                if fixed_corner[4 * q as usize + k] {
+                    continue;
+                }
+                let (lower, upper) = windows[quad[k] as usize];
+                values.push((lower - a).max(a - upper) / 45.0);
+            }
+            let (aspect, taper) = crate::element_quality::aspect_taper(p);
+            values.push((aspect - bounds.max_aspect) / bounds.max_aspect);
+            values.push((taper - bounds.max_taper) / bounds.max_taper);
+            let mine = area(q).max(1e-300);
+            for o in edges.across[q as usize].iter().flatten() {
+                let other = area(*o).max(1e-300);
+                let jump = (mine / other).max(other / mine).sqrt();
+                values.push((jump - bounds.max_size_jump) / bounds.max_size_jump);
+            }
+        }
+        Measures { values }
+    }
+
+    /// How many measures are past their bounds, and the worst.
+    fn past(&self) -> (usize, f64) {
+        (
+            self.values.iter().filter(|&&v| v > 0.0).count(),
+            self.worst(),
+        )
+    }
+
+    fn worst(&self) -> f64 {
+        self.values
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// log-sum-exp over `beta`, shifted by the worst (no overflow).
+    fn soft_max(&self, beta: f64) -> f64 {
+        let w = self.worst();
+        if !w.is_finite() {
+            return w;
+        }
+        let s: f64 = self.values.iter().map(|v| (beta * (v - w)).exp()).sum();
+        w + s.ln() / beta
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of 3 x 3 unit squares, its four inner nodes moved by
+    /// `shift` (nodes 5, 6, 9, 10: the grid's nodes are numbered by rows).
+    fn grid(shift: [DVec2; 4]) -> Mesh {
+        let mut m = crate::mesh::three_by_three();
+        for (k, n) in [5usize, 6, 9, 10].into_iter().enumerate() {
+            m.nodes[n] += shift[k];
+        }
+        m
+    }
+
+    fn worst_corner_past(m: &Mesh, b: &ElementBounds) -> f64 {
+        (0..m.quads.len())
+            .flat_map(|q| crate::geometry::quad_angles(m.quad_points(q)))
+            .map(|a| (b.lower_corner - a).max(a - b.upper_corner))
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// Two inner nodes pushed together toward a corner leave corners
+    /// past 135 deg; moved together they come within the window, and
+    /// the boundary nodes stay where they are.
+    #[test]
+    fn corners_past_the_window_come_within_it_and_the_boundary_stays() {
+        let d = DVec2::new(0.42, 0.42);
+        let mut m = grid([d, d, DVec2::ZERO, DVec2::ZERO]);
+        let before = m.clone();
+        let b = ElementBounds::default();
+        assert!(
+            worst_corner_past(&m, &b) > 5.0,
+            "{}",
+            worst_corner_past(&m, &b)
+        );
+        assert_eq!(polish_past_bounds(&mut m, &b), 1);
+        assert!(
+            worst_corner_past(&m, &b) <= 0.0,
+            "{}",
+            worst_corner_past(&m, &b)
+        );
+        for n in 0..m.nodes.len() {
+            if m.kinds[n] == NodeKind::Boundary {
+                assert_eq!(m.nodes[n], before.nodes[n]);
+            }
+        }
+    }
+
+    /// `bound(polish_rings, 0)` leaves the mesh as it is, and so does a
+    /// mesh within the bounds.
+    #[test]
+    fn no_rings_or_nothing_past_the_bounds_leaves_the_mesh() {
+        let d = DVec2::new(0.42, 0.42);
+        let mut m = grid([d, d, DVec2::ZERO, DVec2::ZERO]);
+        let before = m.nodes.clone();
+        let off = ElementBounds::default().with_polish_rings(0.0).unwrap();
+        assert_eq!(polish_past_bounds(&mut m, &off), 0);
+        assert_eq!(m.nodes, before);
+        let mut square = grid([DVec2::ZERO; 4]);
+        let before = square.nodes.clone();
+        assert_eq!(
+            polish_past_bounds(&mut square, &ElementBounds::default()),
+            0
+        );
+        assert_eq!(square.nodes, before);
+    }
+
+    /// A rings bound must be a whole number from 0 to 4.
+    #[test]
+    fn the_rings_bound_is_checked() {
+        let b = ElementBounds::default();
+        assert!(b.with_polish_rings(1.5).is_err());
+        assert!(b.with_polish_rings(5.0).is_err());
+        assert_eq!(b.with_polish_rings(3.0).unwrap().polish_rings, 3.0);
+    }
+}
