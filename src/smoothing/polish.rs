@@ -10,6 +10,7 @@
 
 use glam::DVec2;
 
+use super::strips::{element_neighbours, node_elements};
 use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
 
@@ -31,13 +32,13 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
     if rings == 0 || mesh.quads.is_empty() {
         return 0;
     }
-    let around = elements_round_nodes(mesh);
-    let edges = Edges::of(mesh);
+    let around = node_elements(mesh);
+    let neighbours = element_neighbours(mesh, &around);
     let fixed_corner = fixed_corners(mesh);
     let windows = corner_windows(mesh, &around, bounds);
     let past: Vec<u32> = (0..mesh.quads.len() as u32)
         .filter(|&q| {
-            let m = Measures::of(mesh, &[q], &edges, &fixed_corner, &windows, bounds);
+            let m = Measures::of(mesh, &[q], &neighbours, &fixed_corner, &windows, bounds);
             m.worst() > 0.0
         })
         .collect();
@@ -59,7 +60,7 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
             mesh,
             &free,
             &touched,
-            &edges,
+            &neighbours,
             &fixed_corner,
             &windows,
             bounds,
@@ -76,13 +77,13 @@ fn polish_region(
     mesh: &mut Mesh,
     free: &[u32],
     touched: &[u32],
-    edges: &Edges,
+    neighbours: &[[Option<u32>; 4]],
     fixed_corner: &[bool],
     windows: &[(f64, f64)],
     bounds: &ElementBounds,
 ) -> bool {
     let start: Vec<DVec2> = free.iter().map(|&n| mesh.nodes[n as usize]).collect();
-    let before = Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).past();
+    let before = Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).past();
     let h = shortest_edge(mesh, touched);
     if h.is_nan() || h <= 0.0 {
         return false;
@@ -94,7 +95,7 @@ fn polish_region(
             if turned_over(mesh, touched) {
                 return f64::INFINITY;
             }
-            Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).soft_max(beta)
+            Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).soft_max(beta)
         };
         let mut f = value(mesh, &x);
         let mut step = 0.05 * h;
@@ -102,13 +103,14 @@ fn polish_region(
         for _ in 0..STEPS {
             // the gradient by central differences, node by node
             let mut g = vec![DVec2::ZERO; x.len()];
+            let mut y = x.clone();
             for i in 0..x.len() {
                 for axis in 0..2 {
-                    let mut y = x.clone();
                     y[i][axis] += delta;
                     let up = value(mesh, &y);
                     y[i][axis] -= 2.0 * delta;
                     let down = value(mesh, &y);
+                    y[i][axis] = x[i][axis];
                     g[i][axis] = if up.is_finite() && down.is_finite() {
                         (up - down) / (2.0 * delta)
                     } else {
@@ -148,7 +150,7 @@ fn polish_region(
     let after = if turned_over(mesh, touched) {
         (usize::MAX, f64::INFINITY)
     } else {
-        Measures::of(mesh, touched, edges, fixed_corner, windows, bounds).past()
+        Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).past()
     };
     let better = (after.0 <= before.0 && after.1 < before.1 - 1e-9)
         || (after.0 < before.0 && after.1 <= before.1);
@@ -184,22 +186,11 @@ fn shortest_edge(mesh: &Mesh, qs: &[u32]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The elements at each node.
-fn elements_round_nodes(mesh: &Mesh) -> Vec<Vec<u32>> {
-    let mut around = vec![Vec::new(); mesh.nodes.len()];
-    for (q, quad) in mesh.quads.iter().enumerate() {
-        for &n in quad {
-            around[n as usize].push(q as u32);
-        }
-    }
-    around
-}
-
 /// The elements at any of `nodes`, sorted.
-fn elements_of(around: &[Vec<u32>], nodes: &[u32]) -> Vec<u32> {
+fn elements_of(around: &[Vec<(u32, u8)>], nodes: &[u32]) -> Vec<u32> {
     let mut qs: Vec<u32> = nodes
         .iter()
-        .flat_map(|&n| around[n as usize].iter().copied())
+        .flat_map(|&n| around[n as usize].iter().map(|a| a.0))
         .collect();
     qs.sort_unstable();
     qs.dedup();
@@ -208,15 +199,13 @@ fn elements_of(around: &[Vec<u32>], nodes: &[u32]) -> Vec<u32> {
 
 /// The interior nodes within `rings` rings of elements round element q,
 /// sorted.
-fn free_nodes_near(mesh: &Mesh, around: &[Vec<u32>], q: u32, rings: usize) -> Vec<u32> {
+fn free_nodes_near(mesh: &Mesh, around: &[Vec<(u32, u8)>], q: u32, rings: usize) -> Vec<u32> {
     let mut nodes: Vec<u32> = mesh.quads[q as usize].to_vec();
     for _ in 1..rings {
         nodes = elements_of(around, &nodes)
             .into_iter()
             .flat_map(|o| mesh.quads[o as usize])
             .collect();
-        nodes.sort_unstable();
-        nodes.dedup();
     }
     nodes.sort_unstable();
     nodes.dedup();
@@ -244,7 +233,11 @@ fn fixed_corners(mesh: &Mesh) -> Vec<bool> {
 /// the bounds', but at a boundary node whose elements share a corner
 /// too sharp (or too wide) for all to be within it, their even share of
 /// that corner (as near as they can come).
-fn corner_windows(mesh: &Mesh, around: &[Vec<u32>], bounds: &ElementBounds) -> Vec<(f64, f64)> {
+fn corner_windows(
+    mesh: &Mesh,
+    around: &[Vec<(u32, u8)>],
+    bounds: &ElementBounds,
+) -> Vec<(f64, f64)> {
     (0..mesh.nodes.len())
         .map(|n| {
             let window = (bounds.lower_corner, bounds.upper_corner);
@@ -253,41 +246,14 @@ fn corner_windows(mesh: &Mesh, around: &[Vec<u32>], bounds: &ElementBounds) -> V
             }
             let total: f64 = around[n]
                 .iter()
-                .map(|&q| {
-                    let quad = mesh.quads[q as usize];
-                    let k = quad.iter().position(|&m| m as usize == n).unwrap_or(0);
-                    crate::geometry::quad_angles(mesh.quad_points(q as usize))[k]
+                .map(|&(q, k)| {
+                    crate::geometry::quad_angles(mesh.quad_points(q as usize))[k as usize]
                 })
                 .sum();
             let share = total / around[n].len() as f64;
             (window.0.min(share), window.1.max(share))
         })
         .collect()
-}
-
-/// The elements across each element's edges (None on the boundary).
-struct Edges {
-    across: Vec<[Option<u32>; 4]>,
-}
-
-impl Edges {
-    fn of(mesh: &Mesh) -> Edges {
-        let mut by_edge: rustc_hash::FxHashMap<(u32, u32), (u32, usize)> = Default::default();
-        let mut across = vec![[None; 4]; mesh.quads.len()];
-        for (q, quad) in mesh.quads.iter().enumerate() {
-            for k in 0..4 {
-                let (a, b) = (quad[k], quad[(k + 1) % 4]);
-                let key = (a.min(b), a.max(b));
-                if let Some(&(o, j)) = by_edge.get(&key) {
-                    across[q][k] = Some(o);
-                    across[o as usize][j] = Some(q as u32);
-                } else {
-                    by_edge.insert(key, (q as u32, k));
-                }
-            }
-        }
-        Edges { across }
-    }
 }
 
 /// Every measure of some elements as a share of its bound past it
@@ -301,7 +267,7 @@ impl Measures {
     fn of(
         mesh: &Mesh,
         qs: &[u32],
-        edges: &Edges,
+        neighbours: &[[Option<u32>; 4]],
         fixed_corner: &[bool],
         windows: &[(f64, f64)],
         bounds: &ElementBounds,
@@ -323,7 +289,7 @@ impl Measures {
             values.push((aspect - bounds.max_aspect) / bounds.max_aspect);
             values.push((taper - bounds.max_taper) / bounds.max_taper);
             let mine = area(q).max(1e-300);
-            for o in edges.across[q as usize].iter().flatten() {
+            for o in neighbours[q as usize].iter().flatten() {
                 let other = area(*o).max(1e-300);
                 let jump = (mine / other).max(other / mine).sqrt();
                 values.push((jump - bounds.max_size_jump) / bounds.max_size_jump);
