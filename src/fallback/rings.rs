@@ -155,6 +155,13 @@ pub fn best_ring(
         }) {
             return None;
         }
+        // most rings of the search fail `floor`: the sines of their
+        // corners say so without an arc tangent (the same rings refused)
+        if (0..n)
+            .any(|i| surely_below(&[p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]], floor))
+        {
+            return None;
+        }
         let mut corner = f64::MAX;
         let mut areas = Vec::with_capacity(n);
         for i in 0..n {
@@ -257,6 +264,23 @@ pub fn best_ring(
         .map(|r| (r.inner, r.jump))
 }
 
+/// Whether `q` surely fails the ring's judge at `floor` (degrees): it
+/// turns the wrong way at a corner, or a corner's sine puts it nearer
+/// than `floor` to 0 or 180 degrees (a corner near `floor` is left to
+/// the judge's own measure).
+fn surely_below(q: &[DVec2; 4], floor: f64) -> bool {
+    if !(floor > 0.0 && floor <= 90.0) {
+        return false;
+    }
+    let least = floor.to_radians().sin() * (1.0 - 1e-9);
+    (0..4).any(|i| {
+        let (a, b) = (q[(i + 1) % 4] - q[i], q[(i + 3) % 4] - q[i]);
+        let cross = a.perp_dot(b);
+        let lengths = a.length() * b.length();
+        cross <= 0.0 || cross < least * lengths
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -270,6 +294,31 @@ mod tests {
             corner_give: give,
         };
         best_ring(p, outside, &aims).expect("a ring").1
+    }
+
+    /// The sines' shortcut refuses only what the judge's own measure
+    /// refuses (a corner nearer than the floor to 0 or 180 degrees, or
+    /// no convex element), and refuses most of those.
+    #[test]
+    fn the_sines_refuse_only_elements_the_corners_refuse() {
+        let mut next = noise(7);
+        let (mut refused, mut below) = (0, 0);
+        for _ in 0..20_000 {
+            let q: [DVec2; 4] = std::array::from_fn(|i| {
+                let a = std::f64::consts::TAU * (i as f64 + 0.9 * next() - 0.45) / 4.0;
+                DVec2::from_angle(a) * (0.3 + next())
+            });
+            let floor = 90.0 * next();
+            let exact = convex_angles(&q)
+                .map(|a| a.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
+            let judged_below = exact.is_none_or(|c| c < floor);
+            if surely_below(&q, floor) {
+                refused += 1;
+                assert!(judged_below, "{q:?} at {floor}: {exact:?}");
+            }
+            below += usize::from(judged_below);
+        }
+        assert!(refused * 10 >= below * 9, "{refused} of {below}");
     }
 
     #[test]
