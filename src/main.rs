@@ -638,7 +638,7 @@ fn mesh_one(
         }
         if ph.coarser > 0.0 {
             eprintln!(
-                "{}: coarser pass {:.3} s (the meshes it made or replaced and did not keep, bound(coarser_when_over, K); the kept mesh's own stages above and below)",
+                "{}: coarser pass {:.3} s (the meshes it made or replaced and did not keep, two at once where a core is spare, bound(coarser_when_over, K); the kept mesh's own stages above and below)",
                 domain.name(),
                 ph.coarser
             );

@@ -10,13 +10,18 @@
 //! order until one is within the bounds with no more than K times those
 //! elements, and the mesh nearest the bounds kept, or as near with fewer
 //! elements. The trace's first step says what was tried and kept.
+//! Where a core is spare the variants run two at once (the run's own
+//! engine and one built from the same files), judged in their order:
+//! each run depends on its variant's bounds alone, so the meshes, the
+//! one kept and the trace are those of one at a time.
 
 use super::retries::bound_words;
 use super::{mesh_uniform_run, Retries, Score, UniformRun};
 use crate::input::domain::Domain;
-use crate::kb::KnowledgeBase;
+use crate::kb::{KnowledgeBase, RetryVariant};
 use crate::pipeline::{Error, MeshResult, Options};
 use crate::report::trace::By;
+use crate::settings::Settings;
 
 /// The uniform run's mesh, or a coarser one of the same domain where it
 /// has many more elements than its area asks for (`first_run`: the
@@ -79,12 +84,22 @@ pub(super) fn coarser_when_over(
     )];
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     said.push(format!("the first run: {}", kept.0.words()));
-    // the runs' times: all of them, and the kept one's
-    let (mut all_runs, mut kept_run) = (first_run, first_run);
+    let limit = over * area_count;
+    let retries = if retried {
+        Retries::LeftToTheFirstRun
+    } else {
+        Retries::Tried
+    };
+    // the variants' runs, two at once where a core is spare (each run
+    // depends on its variant's bounds alone: the same meshes either way)
+    let started = std::time::Instant::now();
+    let mut runs = VariantRuns::ahead(domain, kb, opts, &variants, retries, &settings, limit);
+    // the kept run's own time (the rest is the pass's)
+    let mut kept_run = first_run;
     for (i, (variant, bounds, _)) in variants.iter().enumerate() {
         // a variant after one kept within the bounds and with few enough
         // elements is not needed
-        let enough = (kept.1.mesh.quads.len() as f64) <= over * area_count;
+        let enough = (kept.1.mesh.quads.len() as f64) <= limit;
         if kept.0.outside == 0 && enough {
             said.push(format!(
                 "coarser: within the bounds with at most bound(coarser_when_over, {over}) times the area's elements, {} variants after it not tried",
@@ -92,26 +107,8 @@ pub(super) fn coarser_when_over(
             ));
             break;
         }
-        let started = std::time::Instant::now();
         let words = bound_words(bounds);
-        // this engine, the variant's bounds in place (a new engine would
-        // answer the same and take longer to build than a small run)
-        let run = kb.with_bounds_in_place(bounds, |kb| {
-            mesh_uniform_run(
-                domain,
-                None,
-                kb,
-                opts,
-                if retried {
-                    Retries::LeftToTheFirstRun
-                } else {
-                    Retries::Tried
-                },
-                &mut |_| {},
-            )
-        })?;
-        let this_run = started.elapsed().as_secs_f64();
-        all_runs += this_run;
+        let (run, this_run) = runs.take(i, domain, kb, opts, &variants, retries);
         let c = match run {
             Ok(c) => c.result,
             // a rule at fault is the KB's error, not this variant's
@@ -145,8 +142,9 @@ pub(super) fn coarser_when_over(
             kept_run = this_run;
         }
     }
+    let all_runs = first_run + started.elapsed().as_secs_f64();
     let (_, mut r, variant) = kept;
-    r.phases.coarser = all_runs - kept_run;
+    r.phases.coarser = (all_runs - kept_run).max(0.0);
     Ok(tell_first(r, variant.as_deref(), said))
 }
 
@@ -174,4 +172,108 @@ fn tell_first(r: MeshResult, variant: Option<&str>, said: Vec<String>) -> MeshRe
     }
     first.redesign.splice(0..0, said);
     r
+}
+
+/// A variant's run (the run, or why it failed) and its own time.
+type VariantRun = (Result<UniformRun, Error>, f64);
+
+/// The coarser pass's runs of the variants: those made ahead, two at
+/// once, and the rest made when asked for, one by one on this engine.
+struct VariantRuns {
+    made: Vec<Option<VariantRun>>,
+}
+
+impl VariantRuns {
+    /// Where a core is spare and no outer call has bounds in place (a
+    /// second engine is built from the user's files alone), the variants
+    /// are run ahead two at once, this engine taking one and an engine
+    /// of the same files the other, in their order up to the first
+    /// within the bounds with at most `limit` elements (the pass stops
+    /// there or before it); else none are run ahead.
+    fn ahead(
+        domain: &Domain,
+        kb: &mut KnowledgeBase,
+        opts: &Options,
+        variants: &[RetryVariant],
+        retries: Retries,
+        settings: &Settings,
+        limit: f64,
+    ) -> VariantRuns {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Mutex;
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        let mut made: Vec<Option<VariantRun>> = (0..variants.len()).map(|_| None).collect();
+        if cores < 2 || variants.len() < 2 || kb.has_bounds_in_place() {
+            return VariantRuns { made };
+        }
+        let user_files = kb.user_files().to_vec();
+        let next = AtomicUsize::new(0);
+        let last = AtomicUsize::new(usize::MAX);
+        let done = Mutex::new(&mut made);
+        let work = |kb: &mut KnowledgeBase| loop {
+            let i = next.fetch_add(1, Ordering::SeqCst);
+            if i >= variants.len() || i > last.load(Ordering::SeqCst) {
+                return;
+            }
+            let run = variant_run(domain, kb, opts, &variants[i], retries);
+            let few = match &run.0 {
+                Ok(u) => {
+                    Score::of(&u.result, settings, domain).outside == 0
+                        && (u.result.mesh.quads.len() as f64) <= limit
+                }
+                Err(_) => false,
+            };
+            if few {
+                last.fetch_min(i, Ordering::SeqCst);
+            }
+            done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(run);
+        };
+        std::thread::scope(|scope| {
+            let helper = scope.spawn(|| {
+                // built on the thread that uses it (an engine cannot move)
+                if let Ok(mut other) = KnowledgeBase::with_user_files(&user_files) {
+                    work(&mut other);
+                }
+            });
+            work(kb);
+            helper
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        });
+        VariantRuns { made }
+    }
+
+    /// Variant `i`'s run: made ahead, or made now on `kb`.
+    fn take(
+        &mut self,
+        i: usize,
+        domain: &Domain,
+        kb: &mut KnowledgeBase,
+        opts: &Options,
+        variants: &[RetryVariant],
+        retries: Retries,
+    ) -> VariantRun {
+        self.made[i]
+            .take()
+            .unwrap_or_else(|| variant_run(domain, kb, opts, &variants[i], retries))
+    }
+}
+
+/// The domain meshed uniform on `kb` with the variant's bounds in place
+/// (as an engine built with them answers), and the run's time.
+fn variant_run(
+    domain: &Domain,
+    kb: &mut KnowledgeBase,
+    opts: &Options,
+    (_, bounds, _): &RetryVariant,
+    retries: Retries,
+) -> VariantRun {
+    let started = std::time::Instant::now();
+    let run = match kb.with_bounds_in_place(bounds, |kb| {
+        mesh_uniform_run(domain, None, kb, opts, retries, &mut |_| {})
+    }) {
+        Ok(run) => run,
+        Err(e) => Err(Error::Kb(e)),
+    };
+    (run, started.elapsed().as_secs_f64())
 }

@@ -15,6 +15,7 @@
 //! which mesh was kept and what each layout gave.
 
 mod coarser;
+mod finishing;
 mod four_sided;
 mod free_blocks;
 pub mod intervals;
@@ -25,9 +26,7 @@ mod score;
 use crate::input::curves::Curve;
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
-use crate::pipeline::{
-    discretise_for_run, finish_mesh, prepare_run, Error, MeshResult, Options, Run,
-};
+use crate::pipeline::{discretise_for_run, prepare_run, Error, MeshResult, Options, Run};
 use crate::recursion::Outcome;
 use crate::report::trace::{By, TraceStep};
 use intervals::{Chords, FixedCount};
@@ -435,33 +434,18 @@ fn best_block_mesh(
         }
     }
     candidates.sort_by(|a, b| a.0.cmp(&b.0).then(b.3.total_cmp(&a.3)));
-    let mut best: Option<(Score, MeshResult, String)> = None;
-    for (_, name, words, _, outcome) in candidates {
-        let kb_after = kb.stats;
-        let r = match finish_mesh(outcome, &settings.element, opts, kb_before, kb_after) {
-            Ok(mut r) => {
-                number_without_gaps(&mut r.mesh.blocks);
-                r
-            }
-            // a block mesh that fails the mesh check is not kept (the
-            // next layout, or the free mesh, is)
-            Err(Error::Check(e)) => {
-                tried.push(format!("{words}: {e}"));
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        let score = Score::of(&r, settings, domain);
-        tried.push(format!("{words}: {}", score.words()));
-        let within = score.outside == 0;
-        if best.as_ref().is_none_or(|(b, _, _)| score < *b) {
-            best = Some((score, r, name));
-        }
-        if within {
-            break;
-        }
-    }
-    Ok(best)
+    let candidates = candidates
+        .into_iter()
+        .map(|(_, name, words, _, o)| (name, words, o));
+    let kb_after = kb.stats;
+    finishing::best_finished(
+        candidates,
+        domain,
+        settings,
+        opts,
+        (kb_before, kb_after),
+        tried,
+    )
 }
 
 /// A `--blocks` run's trace with its first step: the mesh kept,

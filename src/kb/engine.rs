@@ -353,6 +353,12 @@ impl KnowledgeBase {
         }))
     }
 
+    /// Whether a `with_bounds_in_place` call is under way (an engine
+    /// built from the user's files alone would answer otherwise).
+    pub fn has_bounds_in_place(&self) -> bool {
+        !self.in_place.is_empty()
+    }
+
     /// Whether this engine has a second one to share its work with
     /// (loaded or loading).
     pub fn has_second_engine(&self) -> bool {

@@ -87,7 +87,8 @@ impl KnowledgeBase {
     /// those names, every bound put back after: it answers as an engine
     /// built with them would (the memo dropped before and after,
     /// a second engine given the same bounds), without the time a new
-    /// engine takes to build (the coarser pass's variants, one by one).
+    /// engine takes to build (the coarser pass's variants on the run's own
+    /// engine).
     pub fn with_bounds_in_place<R>(
         &mut self,
         bounds: &[(String, f64)],

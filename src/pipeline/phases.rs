@@ -20,7 +20,8 @@ pub struct Phases {
     pub retries: f64,
     /// Where a uniform mesh had many more elements than its area asks
     /// for: the runs of the coarser pass not kept (the first run's where
-    /// a coarser mesh is kept, the coarser runs' where it is not).
+    /// a coarser mesh is kept, the coarser runs' where it is not; wall
+    /// time: two at once where a core is spare).
     pub coarser: f64,
 }
 

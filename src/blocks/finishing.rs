@@ -1,0 +1,84 @@
+//! The block meshes finished (the clean-up, smoothing and checks of a
+//! run) in their order until one is within the bounds, two at once where
+//! a core is spare: each is finished alone, so the meshes, and the one
+//! kept, are those of one at a time.
+
+use super::{number_without_gaps, Score};
+use crate::input::domain::Domain;
+use crate::kb::KbStats;
+use crate::pipeline::{finish_mesh, Error, MeshResult, Options};
+use crate::recursion::Outcome;
+
+/// The best of `candidates` (name in the trace, words in its first
+/// step, the layout's outcome), finished in order until one is within
+/// the bounds: fewest elements outside them, then fewest irregular
+/// nodes; what each gave is added to `tried`.
+pub(super) fn best_finished(
+    mut queue: impl Iterator<Item = (String, String, Outcome)>,
+    domain: &Domain,
+    settings: &crate::settings::Settings,
+    opts: &Options,
+    kb_stats: (KbStats, KbStats),
+    tried: &mut Vec<String>,
+) -> Result<Option<(Score, MeshResult, String)>, Error> {
+    let mut best: Option<(Score, MeshResult, String)> = None;
+    let (kb_before, kb_after) = kb_stats;
+    let finish = |outcome: Outcome| {
+        finish_mesh(outcome, &settings.element, opts, kb_before, kb_after).map(|mut r| {
+            number_without_gaps(&mut r.mesh.blocks);
+            r
+        })
+    };
+    // finished two at once where a core is spare (each alone: the same
+    // meshes), judged in their order
+    let at_once = if std::thread::available_parallelism().map_or(1, |c| c.get()) > 1 {
+        2
+    } else {
+        1
+    };
+    loop {
+        let batch: Vec<_> = queue.by_ref().take(at_once).collect();
+        if batch.is_empty() {
+            break;
+        }
+        let finished: Vec<(String, String, Result<MeshResult, Error>)> =
+            std::thread::scope(|scope| {
+                let mut batch = batch.into_iter();
+                let first = batch.next();
+                let others: Vec<_> = batch
+                    .map(|(name, words, o)| scope.spawn(move || (name, words, finish(o))))
+                    .collect();
+                first
+                    .map(|(name, words, o)| (name, words, finish(o)))
+                    .into_iter()
+                    .chain(
+                        others
+                            .into_iter()
+                            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+                    )
+                    .collect()
+            });
+        for (name, words, r) in finished {
+            let r = match r {
+                Ok(r) => r,
+                // a block mesh that fails the mesh check is not kept (the
+                // next layout, or the free mesh, is)
+                Err(Error::Check(e)) => {
+                    tried.push(format!("{words}: {e}"));
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            let score = Score::of(&r, settings, domain);
+            tried.push(format!("{words}: {}", score.words()));
+            let within = score.outside == 0;
+            if best.as_ref().is_none_or(|(b, _, _)| score < *b) {
+                best = Some((score, r, name));
+            }
+            if within {
+                return Ok(best);
+            }
+        }
+    }
+    Ok(best)
+}
