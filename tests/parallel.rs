@@ -74,3 +74,62 @@ fn a_domain_of_a_few_elements_is_meshed_without_a_second_engine_and_a_larger_one
         assert!(larger.contains("answered by a second engine"), "{larger}");
     }
 }
+
+/// `freemesh mesh DOMAIN` (under `taskset -c 0`, which leaves the process
+/// one core, where `one_core`): its mesh and its trace.
+fn mesh_and_trace(domain: &str, one_core: bool) -> (Vec<u8>, String) {
+    let stem = std::env::temp_dir().join(format!(
+        "freemesh-two-at-once-{}-{}-{one_core}",
+        std::process::id(),
+        domain.replace('/', "_")
+    ));
+    let (msh, trace) = (stem.with_extension("msh"), stem.with_extension("jsonl"));
+    let mut command = if one_core {
+        let mut c = std::process::Command::new("taskset");
+        c.args(["-c", "0", env!("CARGO_BIN_EXE_freemesh")]);
+        c
+    } else {
+        std::process::Command::new(env!("CARGO_BIN_EXE_freemesh"))
+    };
+    let o = command
+        .args(["mesh", domain, "-o"])
+        .arg(&msh)
+        .arg("--trace")
+        .arg(&trace)
+        .output()
+        .expect("taskset (util-linux) runs the program on one core");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = (
+        std::fs::read(&msh).unwrap(),
+        std::fs::read_to_string(&trace).unwrap(),
+    );
+    let _ = (std::fs::remove_file(&msh), std::fs::remove_file(&trace));
+    read
+}
+
+/// The coarser pass's variants run two at once where a core is spare,
+/// and the layouts' block meshes are finished two at once: the mesh and
+/// the trace are those of one at a time, on domains whose pass tries
+/// several variants (and stops before the last on the first).
+#[test]
+fn variants_and_block_meshes_two_at_once_give_the_mesh_and_trace_of_one_at_a_time() {
+    assert!(
+        std::thread::available_parallelism().map_or(1, |n| n.get()) > 1,
+        "this test compares two cores with one: it needs two"
+    );
+    for domain in [
+        "tests/counts/coarse-chamfer.json",
+        "tests/counts/fine-fixed-sides.json",
+    ] {
+        let (msh, trace) = mesh_and_trace(domain, false);
+        let first = trace.lines().next().unwrap_or_default();
+        assert!(
+            first.contains("coarser coarser_fine_features")
+                && first.contains("coarser coarser_no_sharp_front_corners"),
+            "{domain}: the pass tries two variants or more: {first}"
+        );
+        let (msh_one, trace_one) = mesh_and_trace(domain, true);
+        assert!(msh == msh_one, "{domain}: the meshes differ");
+        assert_eq!(trace, trace_one, "{domain}");
+    }
+}
