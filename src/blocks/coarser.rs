@@ -10,8 +10,9 @@
 //! order until one is within the bounds with no more than K times those
 //! elements, and the mesh nearest the bounds kept, or as near with fewer
 //! elements. The trace's first step says what was tried and kept.
-//! Where a core is spare the variants run two at once (the run's own
-//! engine and one built from the same files), judged in their order:
+//! Where a core is spare the variants after the first run two at once
+//! (the run's own engine and one built from the same files; the first
+//! alone, as it is often the only one needed), judged in their order:
 //! each run depends on its variant's bounds alone, so the meshes, the
 //! one kept and the trace are those of one at a time.
 
@@ -90,10 +91,11 @@ pub(super) fn coarser_when_over(
     } else {
         Retries::Tried
     };
-    // the variants' runs, two at once where a core is spare (each run
-    // depends on its variant's bounds alone: the same meshes either way)
+    // the variants' runs, the first alone, the others two at once where
+    // a core is spare (each run depends on its variant's bounds alone:
+    // the same meshes either way)
     let started = std::time::Instant::now();
-    let mut runs = VariantRuns::ahead(domain, kb, opts, &variants, retries, &settings, limit);
+    let mut runs = VariantRuns::new(kb, (domain, opts, &settings), &variants, retries, limit);
     // the kept run's own time (the rest is the pass's)
     let mut kept_run = first_run;
     for (i, (variant, bounds, _)) in variants.iter().enumerate() {
@@ -108,7 +110,7 @@ pub(super) fn coarser_when_over(
             break;
         }
         let words = bound_words(bounds);
-        let (run, this_run) = runs.take(i, domain, kb, opts, &variants, retries);
+        let (run, this_run) = runs.take(i, kb);
         let c = match run {
             Ok(c) => c.result,
             // a rule at fault is the KB's error, not this variant's
@@ -179,37 +181,71 @@ type VariantRun = (Result<UniformRun, Error>, f64);
 
 /// The coarser pass's runs of the variants: those made ahead, two at
 /// once, and the rest made when asked for, one by one on this engine.
-struct VariantRuns {
+struct VariantRuns<'a> {
     made: Vec<Option<VariantRun>>,
+    /// Whether the runs after the first may be made ahead, two at once.
+    ahead: bool,
+    domain: &'a Domain,
+    opts: &'a Options,
+    variants: &'a [RetryVariant],
+    retries: Retries,
+    settings: &'a Settings,
+    /// The elements a mesh within the bounds may have for the pass to
+    /// stop at it.
+    limit: f64,
 }
 
-impl VariantRuns {
-    /// Where a core is spare and no outer call has bounds in place (a
-    /// second engine is built from the user's files alone), the variants
-    /// are run ahead two at once, this engine taking one and an engine
-    /// of the same files the other, in their order up to the first
-    /// within the bounds with at most `limit` elements (the pass stops
-    /// there or before it); else none are run ahead.
-    fn ahead(
-        domain: &Domain,
-        kb: &mut KnowledgeBase,
-        opts: &Options,
-        variants: &[RetryVariant],
+impl<'a> VariantRuns<'a> {
+    /// Runs made ahead where a core is spare and no outer call has
+    /// bounds in place (the other engine is built from the user's files
+    /// alone).
+    fn new(
+        kb: &KnowledgeBase,
+        (domain, opts, settings): (&'a Domain, &'a Options, &'a Settings),
+        variants: &'a [RetryVariant],
         retries: Retries,
-        settings: &Settings,
         limit: f64,
-    ) -> VariantRuns {
+    ) -> VariantRuns<'a> {
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        VariantRuns {
+            made: (0..variants.len()).map(|_| None).collect(),
+            ahead: cores > 1 && variants.len() > 2 && !kb.has_bounds_in_place(),
+            domain,
+            opts,
+            variants,
+            retries,
+            settings,
+            limit,
+        }
+    }
+
+    /// Variant `i`'s run. The first is made alone on `kb` (often the
+    /// pass needs no other); once a later one is asked for, it and
+    /// those after it are made ahead two at once, `kb` taking one and an
+    /// engine of the same files the other, in their order up to the
+    /// first within the bounds with at most `limit` elements (the pass
+    /// stops there or before it).
+    fn take(&mut self, i: usize, kb: &mut KnowledgeBase) -> VariantRun {
+        if i > 0 && self.ahead && self.made[i].is_none() {
+            self.ahead = false;
+            self.run_ahead(i, kb);
+        }
+        let (domain, opts, retries) = (self.domain, self.opts, self.retries);
+        self.made[i]
+            .take()
+            .unwrap_or_else(|| variant_run(domain, kb, opts, &self.variants[i], retries))
+    }
+
+    fn run_ahead(&mut self, from: usize, kb: &mut KnowledgeBase) {
         use std::sync::atomic::{AtomicUsize, Ordering};
         use std::sync::Mutex;
-        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-        let mut made: Vec<Option<VariantRun>> = (0..variants.len()).map(|_| None).collect();
-        if cores < 2 || variants.len() < 2 || kb.has_bounds_in_place() {
-            return VariantRuns { made };
-        }
+        let (domain, opts, variants, retries) =
+            (self.domain, self.opts, self.variants, self.retries);
+        let (settings, limit) = (self.settings, self.limit);
         let user_files = kb.user_files().to_vec();
-        let next = AtomicUsize::new(0);
+        let next = AtomicUsize::new(from);
         let last = AtomicUsize::new(usize::MAX);
-        let done = Mutex::new(&mut made);
+        let done = Mutex::new(&mut self.made);
         let work = |kb: &mut KnowledgeBase| loop {
             let i = next.fetch_add(1, Ordering::SeqCst);
             if i >= variants.len() || i > last.load(Ordering::SeqCst) {
@@ -240,22 +276,6 @@ impl VariantRuns {
                 .join()
                 .unwrap_or_else(|e| std::panic::resume_unwind(e));
         });
-        VariantRuns { made }
-    }
-
-    /// Variant `i`'s run: made ahead, or made now on `kb`.
-    fn take(
-        &mut self,
-        i: usize,
-        domain: &Domain,
-        kb: &mut KnowledgeBase,
-        opts: &Options,
-        variants: &[RetryVariant],
-        retries: Retries,
-    ) -> VariantRun {
-        self.made[i]
-            .take()
-            .unwrap_or_else(|| variant_run(domain, kb, opts, &variants[i], retries))
     }
 }
 

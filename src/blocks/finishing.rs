@@ -1,7 +1,7 @@
 //! The block meshes finished (the clean-up, smoothing and checks of a
-//! run) in their order until one is within the bounds, two at once where
-//! a core is spare: each is finished alone, so the meshes, and the one
-//! kept, are those of one at a time.
+//! run) in their order until one is within the bounds: the first alone,
+//! the others two at once where a core is spare; each is finished alone,
+//! so the meshes, and the one kept, are those of one at a time.
 
 use super::{number_without_gaps, Score};
 use crate::input::domain::Domain;
@@ -29,15 +29,14 @@ pub(super) fn best_finished(
             r
         })
     };
-    // finished two at once where a core is spare (each alone: the same
-    // meshes), judged in their order
-    let at_once = if std::thread::available_parallelism().map_or(1, |c| c.get()) > 1 {
-        2
-    } else {
-        1
-    };
+    // the first alone (often within the bounds: no other is needed),
+    // the others two at once where a core is spare (each alone: the
+    // same meshes), judged in their order
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let mut at_once = 1;
     loop {
         let batch: Vec<_> = queue.by_ref().take(at_once).collect();
+        at_once = if cores > 1 { 2 } else { 1 };
         if batch.is_empty() {
             break;
         }
