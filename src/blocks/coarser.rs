@@ -237,45 +237,33 @@ impl<'a> VariantRuns<'a> {
     }
 
     fn run_ahead(&mut self, from: usize, kb: &mut KnowledgeBase) {
-        use std::sync::atomic::{AtomicUsize, Ordering};
-        use std::sync::Mutex;
         let (domain, opts, variants, retries) =
             (self.domain, self.opts, self.variants, self.retries);
         let (settings, limit) = (self.settings, self.limit);
         let user_files = kb.user_files().to_vec();
-        let next = AtomicUsize::new(from);
-        let last = AtomicUsize::new(usize::MAX);
-        let done = Mutex::new(&mut self.made);
-        let work = |kb: &mut KnowledgeBase| loop {
-            let i = next.fetch_add(1, Ordering::SeqCst);
-            if i >= variants.len() || i > last.load(Ordering::SeqCst) {
-                return;
-            }
-            let run = variant_run(domain, kb, opts, &variants[i], retries);
-            let few = match &run.0 {
-                Ok(u) => {
+        let (made, _) = super::in_order::in_order(
+            from..variants.len(),
+            2,
+            Some(kb),
+            &user_files,
+            |engine, i| match engine {
+                Ok(kb) => variant_run(domain, kb, opts, &variants[i], retries),
+                Err(e) => (Err(Error::Kb(e)), 0.0),
+            },
+            // within the bounds with few enough elements: the pass stops
+            // there or before it
+            |(run, _)| {
+                run.as_ref().is_ok_and(|u| {
                     Score::of(&u.result, settings, domain).outside == 0
                         && (u.result.mesh.quads.len() as f64) <= limit
-                }
-                Err(_) => false,
-            };
-            if few {
-                last.fetch_min(i, Ordering::SeqCst);
+                })
+            },
+        );
+        for (i, run) in made.into_iter().enumerate() {
+            if run.is_some() {
+                self.made[i] = run;
             }
-            done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(run);
-        };
-        std::thread::scope(|scope| {
-            let helper = scope.spawn(|| {
-                // built on the thread that uses it (an engine cannot move)
-                if let Ok(mut other) = KnowledgeBase::with_user_files(&user_files) {
-                    work(&mut other);
-                }
-            });
-            work(kb);
-            helper
-                .join()
-                .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        });
+        }
     }
 }
 

@@ -18,6 +18,7 @@ mod coarser;
 mod finishing;
 mod four_sided;
 mod free_blocks;
+mod in_order;
 pub mod intervals;
 mod mapping;
 mod retries;

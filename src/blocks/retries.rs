@@ -276,66 +276,37 @@ pub(super) fn retry_in_parallel(
     workers: usize,
     first_free: u64,
 ) -> Vec<Retried> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let next = AtomicUsize::new(0);
-    // the first variant found within the bounds (those after it are not needed)
-    let within = AtomicUsize::new(usize::MAX);
-    let done: Mutex<Vec<Option<Retried>>> = Mutex::new((0..variants.len()).map(|_| None).collect());
-    let work = || {
-        // one engine a worker, built for its first variant, each variant's
-        // bounds set in place on it (as an engine built with them answers)
-        let mut engine: Option<KnowledgeBase> = None;
-        loop {
-            let i = next.fetch_add(1, Ordering::SeqCst);
-            if i >= variants.len() || i > within.load(Ordering::SeqCst) {
-                return;
-            }
+    let (done, last) = super::in_order::in_order(
+        0..variants.len(),
+        workers,
+        None,
+        user_files,
+        |engine, i| {
             let (variant, bounds, _) = &variants[i];
             let mut said = Vec::new();
-            let r = match engine
-                .take()
-                .map_or_else(|| KnowledgeBase::with_user_files(user_files), Ok)
-            {
-                Ok(mut kb) => {
-                    // the variant's bounds, and beneath them those of
-                    // `underneath` it has no bound of
-                    let r = kb
-                        .with_bounds_in_place(bounds, |kb| {
-                            kb.with_bounds_not_in_place(underneath, |kb| {
-                                retry_variant(
-                                    domain, kb, opts, settings, share, variant, bounds, first_free,
-                                    &mut said,
-                                )
-                            })
+            let r = match engine {
+                // the variant's bounds, and beneath them those of
+                // `underneath` it has no bound of
+                Ok(kb) => kb
+                    .with_bounds_in_place(bounds, |kb| {
+                        kb.with_bounds_not_in_place(underneath, |kb| {
+                            retry_variant(
+                                domain, kb, opts, settings, share, variant, bounds, first_free,
+                                &mut said,
+                            )
                         })
-                        .and_then(|r| r)
-                        .map_err(Error::Kb)
-                        .and_then(|(r, _)| r);
-                    engine = Some(kb);
-                    r
-                }
+                    })
+                    .and_then(|r| r)
+                    .map_err(Error::Kb)
+                    .and_then(|(r, _)| r),
                 Err(e) => Err(Error::Kb(e)),
             };
-            if matches!(&r, Ok(Some((s, _, _))) if s.outside == 0) {
-                within.fetch_min(i, Ordering::SeqCst);
-            }
-            done.lock().unwrap_or_else(|e| e.into_inner())[i] = Some((r, said));
-        }
-    };
-    std::thread::scope(|scope| {
-        let helpers: Vec<_> = (1..workers.min(variants.len()))
-            .map(|_| scope.spawn(work))
-            .collect();
-        work();
-        for h in helpers {
-            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-        }
-    });
-    let last = within.load(Ordering::SeqCst);
-    let done = done.into_inner().unwrap_or_else(|e| e.into_inner());
+            (r, said)
+        },
+        |(r, _)| matches!(r, Ok(Some((s, _, _))) if s.outside == 0),
+    );
     done.into_iter()
-        .take(last.saturating_add(1))
+        .take(last.map_or(usize::MAX, |l| l + 1))
         .flatten()
         .collect()
 }

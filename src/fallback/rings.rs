@@ -272,12 +272,12 @@ fn surely_below(q: &[DVec2; 4], floor: f64) -> bool {
     if !(floor > 0.0 && floor <= 90.0) {
         return false;
     }
-    let least = floor.to_radians().sin() * (1.0 - 1e-9);
+    // squared: no square roots on the search's hot path
+    let least = (floor.to_radians().sin() * (1.0 - 1e-9)).powi(2);
     (0..4).any(|i| {
         let (a, b) = (q[(i + 1) % 4] - q[i], q[(i + 3) % 4] - q[i]);
         let cross = a.perp_dot(b);
-        let lengths = a.length() * b.length();
-        cross <= 0.0 || cross < least * lengths
+        cross <= 0.0 || cross * cross < least * a.length_squared() * b.length_squared()
     })
 }
 
