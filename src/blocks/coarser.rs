@@ -85,6 +85,10 @@ pub(super) fn coarser_when_over(
     )];
     let mut kept = (Score::of(&r, &settings, domain), r, None);
     said.push(format!("the first run: {}", kept.0.words()));
+    let variants = super::retries::changing_something(kb, variants, &mut said)?;
+    if variants.is_empty() {
+        return Ok(tell_first(kept.1, None, said));
+    }
     let limit = over * area_count;
     let retries = if retried {
         Retries::LeftToTheFirstRun

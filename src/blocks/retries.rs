@@ -222,6 +222,13 @@ pub(super) fn retry_where_short(
             })
         })
         .collect();
+    // (a graded run's first run had its graded bounds in place: a
+    // variant of bound/2's values may change those)
+    let variants = if graded {
+        variants
+    } else {
+        changing_something(kb, variants, tried)?
+    };
     if variants.is_empty() {
         return Ok((best, 0.0, false));
     }
@@ -369,6 +376,29 @@ pub(super) fn fingerprint(mesh: &crate::mesh::Mesh) -> u64 {
     }
     mesh.quads.hash(&mut h);
     h.finish()
+}
+
+/// `variants` but those whose every bound already has its value in
+/// `kb` (their run would be the first run, mesh for mesh): `tried` says
+/// which were left out.
+pub(super) fn changing_something(
+    kb: &mut KnowledgeBase,
+    variants: Vec<crate::kb::RetryVariant>,
+    tried: &mut Vec<String>,
+) -> Result<Vec<crate::kb::RetryVariant>, Error> {
+    let mut kept = Vec::with_capacity(variants.len());
+    for v in variants {
+        if kb.would_change_a_bound(&v.1)? {
+            kept.push(v);
+        } else {
+            tried.push(format!(
+                "{} ({}): not run, its bounds are those in place",
+                v.0,
+                bound_words(&v.1)
+            ));
+        }
+    }
+    Ok(kept)
 }
 
 /// A variant's bounds as the trace gives them: `bound(N, X), ...`.

@@ -136,6 +136,21 @@ impl KnowledgeBase {
         Ok((r, placed))
     }
 
+    /// Whether `bounds` would change a bound in place now (a variant
+    /// whose every bound already has its value would mesh the run
+    /// again, mesh for mesh).
+    pub fn would_change_a_bound(&mut self, bounds: &[(String, f64)]) -> Result<bool, KbError> {
+        for (name, value) in bounds {
+            // (a name bound/2 does not give a number is the variant's
+            // own: it changes what the rules read)
+            let now = self.first_binding(&terms::bound_question(name), "V")?;
+            if now.as_ref().and_then(terms::term_number) != Some(*value) {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
     fn bound(&mut self, name: &str) -> Result<f64, KbError> {
         let t = self.first_binding(&terms::bound_question(name), "V")?;
         terms::bound_answer(name, t)
