@@ -1,5 +1,5 @@
 //! The KB's corner bounds are obeyed after the recursion too: a `--kb`
-//! file narrowing the window to [50, 130] makes smoothing and clean-up aim
+//! file narrowing the window to [55, 125] makes smoothing and clean-up aim
 //! for it, and the summary counts the share inside the window in force.
 
 use freemesh::{mesh_domain, Domain, KnowledgeBase, Mesh, MeshResult, Options};
@@ -34,14 +34,14 @@ fn mesh_plate(kb_file: Option<&str>) -> MeshResult {
 #[test]
 fn a_narrower_corner_window_gives_more_quads_inside_it_and_is_the_one_reported() {
     let built_in = mesh_plate(None);
-    let narrow = mesh_plate(Some("tests/kb/corners-50-130.pl"));
+    let narrow = mesh_plate(Some("tests/kb/corners-55-125.pl"));
     assert_eq!(built_in.quality.corner_window, [45.0, 135.0]);
-    assert_eq!(narrow.quality.corner_window, [50.0, 130.0]);
-    let before = share_within(&built_in.mesh, 50.0, 130.0);
-    let after = share_within(&narrow.mesh, 50.0, 130.0);
+    assert_eq!(narrow.quality.corner_window, [55.0, 125.0]);
+    let before = share_within(&built_in.mesh, 55.0, 125.0);
+    let after = share_within(&narrow.mesh, 55.0, 125.0);
     assert!(
         after > before,
-        "share of quads in [50, 130]: {after:.1}% with the window narrowed, {before:.1}% built in"
+        "share of quads in [55, 125]: {after:.1}% with the window narrowed, {before:.1}% built in"
     );
     // the summary reports the share for the window in force
     assert!((narrow.quality.pct_45_135 - after).abs() < 1e-6);

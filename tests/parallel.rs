@@ -123,9 +123,10 @@ fn variants_and_block_meshes_two_at_once_give_the_mesh_and_trace_of_one_at_a_tim
     ] {
         let (msh, trace) = mesh_and_trace(domain, false);
         let first = trace.lines().next().unwrap_or_default();
+        // (coarser_fine_features is not run: its bounds are bound/2's)
+        let variants_run = first.matches("\"coarser coarser_").count();
         assert!(
-            first.contains("coarser coarser_fine_features")
-                && first.contains("coarser coarser_no_sharp_front_corners"),
+            variants_run >= 2,
             "{domain}: the pass tries two variants or more: {first}"
         );
         let (msh_one, trace_one) = mesh_and_trace(domain, true);

@@ -1,7 +1,7 @@
-% The built-in bounds with the corner window narrowed to [50, 130]: a
+% The built-in bounds with the corner window narrowed to [55, 125]: a
 % file that defines bound/2 gives all of them.
-bound(upper_corner, 130).
-bound(lower_corner, 50).
+bound(upper_corner, 125).
+bound(lower_corner, 55).
 bound(b2_side, 160).
 bound(reflex_split, 240).
 bound(near_vertical, 0.45).
