@@ -109,8 +109,8 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   three over two rows (feature refine, action r3, design.pl); 0: never.
 %   Off by default: on the random domains with such counts it did worse
 %   than without (README, "Refining coarse fixed counts"); a file with
-%   bound(refine_ratio, 0.45) and bound(uniform_size_band, 1.5) turns it
-%   on (tests/kb/refine-fixed-counts.pl). Keep it below a third of
+%   bound(refine_ratio, 0.45) turns it on, the band being 1.5 already
+%   (tests/kb/refine-fixed-counts.pl). Keep it below a third of
 %   coarsen_ratio, so that three edges a refinement makes are never
 %   coarsened again, nor the edge a coarsening makes refined.
 % uniform_size_band: in a uniform run, an edge within this factor of the
