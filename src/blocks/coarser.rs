@@ -90,7 +90,10 @@ pub(super) fn coarser_when_over(
         return Ok(tell_first(kept.1, None, said));
     }
     let limit = over * area_count;
-    let retries = if retried {
+    // a first run within the bounds keeps a variant only within them as
+    // well: a variant's own retries, each a whole run, are not made then
+    let first_within = kept.0.outside == 0;
+    let retries = if retried || first_within {
         Retries::LeftToTheFirstRun
     } else {
         Retries::Tried
@@ -141,6 +144,10 @@ pub(super) fn coarser_when_over(
         if retried {
             said.push(format!(
                 "coarser {variant}: no retries of its own (a retry's engine has the user's files and its own bounds alone: they are the first run's, mesh for mesh)"
+            ));
+        } else if first_within && s.outside > 0 {
+            said.push(format!(
+                "coarser {variant}: no retries of its own (the first run is within the bounds)"
             ));
         }
         if nearer || as_near {

@@ -124,7 +124,9 @@ enum Retries {
     Tried,
     /// Not tried: a coarser run where the first run made them (a retry
     /// builds its engine from the user's files and its own bounds alone,
-    /// so they would be the first run's again, mesh for mesh).
+    /// so they would be the first run's again, mesh for mesh), or where
+    /// the first run is within the bounds (a variant is kept then only
+    /// within them as made).
     LeftToTheFirstRun,
 }
 
