@@ -294,8 +294,9 @@ fn the_coarser_pass_tries_its_variants_until_one_is_within_the_bounds_and_few() 
             assert_eq!(quads, first);
             assert!(!r.trace[0].action.starts_with("coarser("), "{told:?}");
             assert!(
-                tried.iter().all(|t| !t.contains(" 0 elements out of bounds")
-                    || count(t) >= first),
+                tried
+                    .iter()
+                    .all(|t| !t.contains(" 0 elements out of bounds") || count(t) >= first),
                 "{told:?}"
             );
         }

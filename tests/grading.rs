@@ -179,7 +179,6 @@ fn a_graded_run_is_coarser_inside_and_stays_within_the_bounds() {
             .map(|s| format!("{} {} {:?}", s.feature, s.action, ratio(s)))
             .collect();
         assert!(off_band.is_empty(), "{}: {off_band:?}", d.name());
-
     }
 }
 

@@ -712,7 +712,11 @@ fn a_domain_with_coarse_fixed_counts_is_retried_with_refining_on() {
     let mut on = KnowledgeBase::builtin().expect("the built-in KB loads");
     let first_run =
         mesh_free_then_blocks(&domain, None, &mut on, &opts, &mut |_| {}).expect("meshed");
-    assert!(within_bounds(&first_run.quality, 45.0), "{:?}", first_run.quality);
+    assert!(
+        within_bounds(&first_run.quality, 45.0),
+        "{:?}",
+        first_run.quality
+    );
     assert!(!first_run.trace[0].action.starts_with("retry("));
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
     kb.consult_file("tests/kb/band-off.pl").expect("consulted");
