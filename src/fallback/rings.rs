@@ -157,10 +157,12 @@ pub fn best_ring(
         }
         // most rings of the search fail `floor`: the sines of their
         // corners say so without an arc tangent (the same rings refused)
-        if (0..n)
-            .any(|i| surely_below(&[p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]], floor))
-        {
-            return None;
+        if let Some(least) = least_sine_squared(floor) {
+            if (0..n)
+                .any(|i| surely_below(&[p[i], p[(i + 1) % n], inner[(i + 1) % n], inner[i]], least))
+            {
+                return None;
+            }
         }
         let mut corner = f64::MAX;
         let mut areas = Vec::with_capacity(n);
@@ -264,16 +266,20 @@ pub fn best_ring(
         .map(|r| (r.inner, r.jump))
 }
 
-/// Whether `q` surely fails the ring's judge at `floor` (degrees): it
-/// turns the wrong way at a corner, or a corner's sine puts it nearer
-/// than `floor` to 0 or 180 degrees (a corner near `floor` is left to
-/// the judge's own measure).
-fn surely_below(q: &[DVec2; 4], floor: f64) -> bool {
-    if !(floor > 0.0 && floor <= 90.0) {
-        return false;
-    }
+/// The squared sine of `floor` (degrees), a hair under it so that a
+/// corner near `floor` is left to the judge's own measure; None where
+/// the sines cannot tell (`floor` outside (0, 90]). Once for a ring,
+/// not for each of its elements.
+fn least_sine_squared(floor: f64) -> Option<f64> {
+    (floor > 0.0 && floor <= 90.0).then(|| (floor.to_radians().sin() * (1.0 - 1e-9)).powi(2))
+}
+
+/// Whether `q` surely fails the ring's judge at a floor whose squared
+/// sine (`least_sine_squared`) is `least`: it turns the wrong way at a
+/// corner, or a corner's sine puts it nearer than the floor to 0 or 180
+/// degrees.
+fn surely_below(q: &[DVec2; 4], least: f64) -> bool {
     // squared: no square roots on the search's hot path
-    let least = (floor.to_radians().sin() * (1.0 - 1e-9)).powi(2);
     (0..4).any(|i| {
         let (a, b) = (q[(i + 1) % 4] - q[i], q[(i + 3) % 4] - q[i]);
         let cross = a.perp_dot(b);
@@ -312,7 +318,7 @@ mod tests {
             let exact = convex_angles(&q)
                 .map(|a| a.iter().map(|&x| x.min(180.0 - x)).fold(f64::MAX, f64::min));
             let judged_below = exact.is_none_or(|c| c < floor);
-            if surely_below(&q, floor) {
+            if least_sine_squared(floor).is_some_and(|least| surely_below(&q, least)) {
                 refused += 1;
                 assert!(judged_below, "{q:?} at {floor}: {exact:?}");
             }
