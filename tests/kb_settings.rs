@@ -78,3 +78,35 @@ fn a_file_setting_one_bound_leaves_the_others_as_they_were() {
     assert!(built_in.contains(others), "{built_in}");
     assert!(one.contains(others), "{one}");
 }
+
+#[test]
+fn a_file_whose_last_line_is_a_comment_is_read_whole() {
+    // the engine alone reads a comment after the last clause as a syntax
+    // error; the file's setting must be in place, and the copy it reads
+    // instead gone with the process
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .args(["repl", "--kb", "tests/kb/ends-in-a-comment.pl"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let copies = format!("freemesh-kb-{}-", child.id());
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"bound(upper_corner, U).\n")
+        .unwrap();
+    let o = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("U = 140"), "{stdout}");
+    let left = std::fs::read_dir(std::env::temp_dir())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with(&copies))
+        .count();
+    assert_eq!(left, 0, "copies of the file left in the temporary folder");
+}

@@ -16,6 +16,7 @@ use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
 use crate::kb::terms::{
     self, atom_or_text, binding_pair, fault_to_error, term_number, term_text, user_query_question,
 };
+use crate::kb::user_file::ConsultCopy;
 use std::collections::{BTreeMap, HashMap};
 
 /// The built-in knowledge base, in load order (file name, text).
@@ -532,7 +533,13 @@ impl KnowledgeBase {
             message: e.to_string(),
         })?;
         self.trust_rules_no_more();
-        let q = terms::consult_question(&abs.to_string_lossy(), SETTINGS);
+        // the engine reads a file that ends in a comment as a syntax
+        // error (scryer-prolog 0.10: `% last line` after the last clause
+        // gives incomplete_reduction): it reads a copy that ends in
+        // `end_of_file.` instead, the lines numbered as in the file
+        let copy = ConsultCopy::of(&abs);
+        let read_from = copy.as_ref().map_or(abs.as_path(), |c| c.path.as_path());
+        let q = terms::consult_question(&read_from.to_string_lossy(), SETTINGS);
         let ans = self.run(&q).map_err(|e| KbError::Clause {
             path: path.into(),
             line: 0,
@@ -545,9 +552,12 @@ impl KnowledgeBase {
                 Ok(args.first().and_then(term_number).unwrap_or(0.0) as usize)
             }
             Some(Term::Compound(f, args)) if f == "error" && args.len() == 2 => {
+                // a clause left open at the end is the file's, not the
+                // copy's line after it
+                let line = term_number(&args[0]).unwrap_or(0.0) as u64;
                 Err(KbError::Clause {
                     path: path.into(),
-                    line: term_number(&args[0]).unwrap_or(0.0) as u64,
+                    line: copy.as_ref().map_or(line, |c| line.min(c.lines.max(1))),
                     reason: term_text(&args[1]),
                 })
             }

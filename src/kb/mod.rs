@@ -1,7 +1,8 @@
 //! The knowledge base: the engine with the rules loaded (`engine.rs`, a
 //! second engine beside it for batches, `second_engine.rs`, the loader
 //! `loader.pl` that bounds every question, and `user_loader.pl`, loaded
-//! when a user's rules come in, that checks a user's file), and
+//! when a user's rules come in, that checks a user's file, read from a
+//! copy that `user_file.rs` makes), and
 //! the protocol the host speaks with it: typed questions
 //! (`questions.rs`) in the host's words (`vocabulary.rs`), whose text
 //! and answers are written and read in one place (`terms.rs`).
@@ -11,6 +12,7 @@ mod error;
 mod questions;
 mod second_engine;
 mod terms;
+mod user_file;
 mod vocabulary;
 
 pub use engine::{KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
