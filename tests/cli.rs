@@ -286,6 +286,23 @@ fn a_broken_kb_file_is_refused_with_its_name_and_line() {
 }
 
 #[test]
+fn a_folder_given_as_a_kb_file_is_refused_in_words() {
+    let out = tmp("kb-folder.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb",
+        ],
+        &out,
+        "tests/kb: cannot read: a folder, not a file",
+    );
+}
+
+#[test]
 fn a_kb_rule_that_throws_is_refused_with_its_file_line_and_reason() {
     let out = tmp("throws.msh");
     assert_refused(

@@ -79,14 +79,12 @@ fn a_file_setting_one_bound_leaves_the_others_as_they_were() {
     assert!(one.contains(others), "{one}");
 }
 
-#[test]
-fn a_file_whose_last_line_is_a_comment_is_read_whole() {
-    // the engine alone reads a comment after the last clause as a syntax
-    // error; the file's setting must be in place, and the copy it reads
-    // instead gone with the process
+/// The upper corner a `--kb` file sets, as the REPL reads it, and whether
+/// the copy of the file the engine read is gone with the process.
+fn upper_corner_with(file: &str) -> (String, bool) {
     use std::io::Write;
     let mut child = Command::new(env!("CARGO_BIN_EXE_freemesh"))
-        .args(["repl", "--kb", "tests/kb/ends-in-a-comment.pl"])
+        .args(["repl", "--kb", file])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -100,13 +98,26 @@ fn a_file_whose_last_line_is_a_comment_is_read_whole() {
         .write_all(b"bound(upper_corner, U).\n")
         .unwrap();
     let o = child.wait_with_output().unwrap();
-    let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(stdout.contains("U = 140"), "{stdout}");
-    let left = std::fs::read_dir(std::env::temp_dir())
+    let gone = std::fs::read_dir(std::env::temp_dir())
         .unwrap()
         .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().starts_with(&copies))
-        .count();
-    assert_eq!(left, 0, "copies of the file left in the temporary folder");
+        .all(|e| !e.file_name().to_string_lossy().starts_with(&copies));
+    (String::from_utf8_lossy(&o.stdout).into_owned(), gone)
+}
+
+#[test]
+fn a_file_whose_last_line_is_a_comment_is_read_whole() {
+    // the engine alone reads a comment after the last clause as a syntax
+    // error; the file's setting must be in place, and the copy it reads
+    // instead gone with the process
+    let (stdout, gone) = upper_corner_with("tests/kb/ends-in-a-comment.pl");
+    assert!(stdout.contains("U = 140"), "{stdout}");
+    assert!(gone, "a copy of the file left in the temporary folder");
+}
+
+#[test]
+fn a_file_that_starts_with_a_byte_order_mark_is_read() {
+    let (stdout, _) = upper_corner_with("tests/kb/starts-with-a-bom.pl");
+    assert!(stdout.contains("U = 140"), "{stdout}");
 }

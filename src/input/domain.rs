@@ -331,7 +331,9 @@ impl Domain {
             path: path.to_string(),
             message: e.to_string(),
         })?;
-        let v: Value = serde_json::from_str(&text).map_err(|e| DomainError::Json {
+        // a byte-order mark (editors on Windows write one) is not JSON
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+        let v: Value = serde_json::from_str(text).map_err(|e| DomainError::Json {
             path: path.to_string(),
             message: e.to_string(),
         })?;
@@ -349,8 +351,14 @@ impl Domain {
     /// assert_eq!(d.area(), 2.0);
     /// // a domain that fails a check is an error, never a Domain
     /// assert!(freemesh::Domain::from_json_str(r#"{"size": -1}"#).is_err());
+    /// // a byte-order mark first is read past
+    /// assert!(freemesh::Domain::from_json_str(
+    ///     "\u{feff}{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[2,0],[2,1],[0,1]]}}",
+    /// )
+    /// .is_ok());
     /// ```
     pub fn from_json_str(text: &str) -> Result<Domain, DomainError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let v: Value = serde_json::from_str(text).map_err(|e| DomainError::Json {
             path: "(text)".to_string(),
             message: e.to_string(),

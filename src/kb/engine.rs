@@ -524,10 +524,16 @@ impl KnowledgeBase {
     }
 
     fn consult_file_timed(&mut self, path: &str) -> Result<usize, KbError> {
-        std::fs::metadata(path).map_err(|e| KbError::Read {
+        let meta = std::fs::metadata(path).map_err(|e| KbError::Read {
             path: path.into(),
             message: e.to_string(),
         })?;
+        if meta.is_dir() {
+            return Err(KbError::Read {
+                path: path.into(),
+                message: "a folder, not a file".into(),
+            });
+        }
         let abs = std::fs::canonicalize(path).map_err(|e| KbError::Read {
             path: path.into(),
             message: e.to_string(),
