@@ -303,6 +303,23 @@ fn a_folder_given_as_a_kb_file_is_refused_in_words() {
 }
 
 #[test]
+fn a_kb_file_that_is_not_utf8_is_refused_naming_the_line() {
+    let out = tmp("kb-latin-1.msh");
+    assert_refused(
+        &[
+            "mesh",
+            "tests/inputs/square.json",
+            "-o",
+            out.to_str().unwrap(),
+            "--kb",
+            "tests/kb/latin-1.pl",
+        ],
+        &out,
+        "tests/kb/latin-1.pl: cannot read: not UTF-8 text (line 1",
+    );
+}
+
+#[test]
 fn a_kb_rule_that_throws_is_refused_with_its_file_line_and_reason() {
     let out = tmp("throws.msh");
     assert_refused(

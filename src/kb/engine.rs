@@ -543,7 +543,10 @@ impl KnowledgeBase {
         // error (scryer-prolog 0.10: `% last line` after the last clause
         // gives incomplete_reduction): it reads a copy that ends in
         // `end_of_file.` instead, the lines numbered as in the file
-        let copy = ConsultCopy::of(&abs);
+        let copy = ConsultCopy::of(&abs).map_err(|message| KbError::Read {
+            path: path.into(),
+            message,
+        })?;
         let read_from = copy.as_ref().map_or(abs.as_path(), |c| c.path.as_path());
         let q = terms::consult_question(&read_from.to_string_lossy(), SETTINGS);
         let ans = self.run(&q).map_err(|e| KbError::Clause {
