@@ -268,9 +268,10 @@ fn assert_refused(args: &[&str], out: &Path, expect: &str) {
     assert!(!out.exists(), "no output on error");
 }
 
-#[test]
-fn a_broken_kb_file_is_refused_with_its_name_and_line() {
-    let out = tmp("broken.msh");
+/// Meshing the square with `--kb kb` fails as `assert_refused` asks, the
+/// error naming `expect`.
+fn assert_kb_refused(out: &str, kb: &str, expect: &str) {
+    let out = tmp(out);
     assert_refused(
         &[
             "mesh",
@@ -278,77 +279,50 @@ fn a_broken_kb_file_is_refused_with_its_name_and_line() {
             "-o",
             out.to_str().unwrap(),
             "--kb",
-            "tests/kb/broken.pl",
+            kb,
         ],
         &out,
-        "broken.pl:3",
+        expect,
     );
 }
 
 #[test]
+fn a_broken_kb_file_is_refused_with_its_name_and_line() {
+    assert_kb_refused("broken.msh", "tests/kb/broken.pl", "broken.pl:3");
+}
+
+#[test]
 fn a_folder_given_as_a_kb_file_is_refused_in_words() {
-    let out = tmp("kb-folder.msh");
-    assert_refused(
-        &[
-            "mesh",
-            "tests/inputs/square.json",
-            "-o",
-            out.to_str().unwrap(),
-            "--kb",
-            "tests/kb",
-        ],
-        &out,
+    assert_kb_refused(
+        "kb-folder.msh",
+        "tests/kb",
         "tests/kb: cannot read: a folder, not a file",
     );
 }
 
 #[test]
 fn a_kb_file_that_is_not_utf8_is_refused_naming_the_line() {
-    let out = tmp("kb-latin-1.msh");
-    assert_refused(
-        &[
-            "mesh",
-            "tests/inputs/square.json",
-            "-o",
-            out.to_str().unwrap(),
-            "--kb",
-            "tests/kb/latin-1.pl",
-        ],
-        &out,
+    assert_kb_refused(
+        "kb-latin-1.msh",
+        "tests/kb/latin-1.pl",
         "tests/kb/latin-1.pl: cannot read: not UTF-8 text (line 1",
     );
 }
 
 #[test]
 fn a_kb_rule_that_throws_is_refused_with_its_file_line_and_reason() {
-    let out = tmp("throws.msh");
-    assert_refused(
-        &[
-            "mesh",
-            "tests/inputs/square.json",
-            "-o",
-            out.to_str().unwrap(),
-            "--kb",
-            "tests/kb/throws.pl",
-        ],
-        &out,
+    assert_kb_refused(
+        "throws.msh",
+        "tests/kb/throws.pl",
         "tests/kb/throws.pl:4: rule_raised(feature/2, evaluation_error(zero_divisor))",
     );
 }
 
 #[test]
 fn a_kb_rule_that_runs_away_is_refused_with_its_file_and_line() {
-    let out = tmp("runs-away.msh");
-    assert_refused(
-        &[
-            "mesh",
-            "tests/inputs/square.json",
-            "-o",
-            out.to_str().unwrap(),
-            "--kb",
-            "tests/kb/runs-away.pl",
-        ],
-        &out,
+    assert_kb_refused(
+        "runs-away.msh",
+        "tests/kb/runs-away.pl",
         "tests/kb/runs-away.pl:3: rule_runs_away(feature/2)",
     );
 }
@@ -465,17 +439,9 @@ fn repl_refuses_a_bad_domain_at_the_start_with_one_line() {
 
 #[test]
 fn a_kb_rule_with_an_undefined_action_is_refused() {
-    let out = tmp("undef.msh");
-    assert_refused(
-        &[
-            "mesh",
-            "tests/inputs/square.json",
-            "-o",
-            out.to_str().unwrap(),
-            "--kb",
-            "tests/kb/undefined-action.pl",
-        ],
-        &out,
+    assert_kb_refused(
+        "undef.msh",
+        "tests/kb/undefined-action.pl",
         "undefined_action(a9/2)",
     );
 }
