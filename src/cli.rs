@@ -44,10 +44,10 @@ pub struct ConvertArgs {
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
     /// Target boundary segment length (a drawing has none: required).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub size: Option<f64>,
     /// Largest interior element edge.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_size: Option<f64>,
 }
 
@@ -67,7 +67,7 @@ pub struct ReplArgs {
     /// A domain file to load at the start (as :load does).
     pub domain: Option<PathBuf>,
     /// Target boundary segment length (replaces the domains' size).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat
     /// for several.
@@ -84,7 +84,7 @@ pub struct FeaturesArgs {
     #[arg(long)]
     pub json: bool,
     /// Target boundary segment length (replaces the domain's size).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules.
     #[arg(long = "kb")]
@@ -117,7 +117,7 @@ pub struct MeshArgs {
     pub stats: bool,
     /// Target boundary segment length (replaces the domain's size;
     /// required for a DXF outline).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub size: Option<f64>,
     /// Element order: 1 (4-node quads) or 2 (8-node quads, or 9-node
     /// with --serendipity false), mid-edge nodes on the input's arcs.
@@ -130,7 +130,7 @@ pub struct MeshArgs {
     /// Largest interior element edge (replaces the domain's max_size); not
     /// below the size. Above it the mesh is graded: fine at the boundary,
     /// coarser inside up to this; equal to it, uniform.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_size: Option<f64>,
     /// A knowledge-base file consulted after the built-in rules. Repeat
     /// for several.

@@ -701,15 +701,24 @@ fn quality_of_a_file_that_is_no_mesh_is_one_error_line() {
 
 #[test]
 fn an_option_out_of_range_names_its_flag() {
-    for (flag, value) in [("--size", "-1"), ("--max-size", "0")] {
+    // `--size -1` too: clap alone read `-1` as an option of its own
+    let cases = [
+        ("--size", "-1", true),
+        ("--max-size", "0", true),
+        ("--size", "-1", false),
+        ("--max-size", "-2", false),
+    ];
+    for (flag, value, joined) in cases {
         let out = tmp("bad-option.msh");
-        let o = freemesh(&[
-            "mesh",
-            "tests/inputs/square.json",
-            &format!("{flag}={value}"),
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let joined_arg = format!("{flag}={value}");
+        let mut args = vec!["mesh", "tests/inputs/square.json"];
+        if joined {
+            args.push(&joined_arg);
+        } else {
+            args.extend([flag, value]);
+        }
+        args.extend(["-o", out.to_str().unwrap()]);
+        let o = freemesh(&args);
         assert_eq!(o.status.code(), Some(1));
         let err = stderr(&o);
         assert_eq!(
