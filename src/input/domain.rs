@@ -324,6 +324,16 @@ fn chain(v: &Value, key: &str, closed: bool, tags: &mut Vec<String>) -> Result<C
     })
 }
 
+/// The JSON of a domain file's text (`path` names it in an error), a
+/// byte-order mark first read past (editors on Windows write one).
+fn json_of(text: &str, path: &str) -> Result<Value, DomainError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    serde_json::from_str(text).map_err(|e| DomainError::Json {
+        path: path.to_string(),
+        message: e.to_string(),
+    })
+}
+
 impl Domain {
     /// Reads and validates a domain file.
     pub fn from_file(path: &str) -> Result<Domain, DomainError> {
@@ -331,13 +341,7 @@ impl Domain {
             path: path.to_string(),
             message: e.to_string(),
         })?;
-        // a byte-order mark (editors on Windows write one) is not JSON
-        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-        let v: Value = serde_json::from_str(text).map_err(|e| DomainError::Json {
-            path: path.to_string(),
-            message: e.to_string(),
-        })?;
-        Domain::from_json(&v)
+        Domain::from_json(&json_of(&text, path)?)
     }
 
     /// Reads and validates a domain from the text of a domain file (the
@@ -358,12 +362,7 @@ impl Domain {
     /// .is_ok());
     /// ```
     pub fn from_json_str(text: &str) -> Result<Domain, DomainError> {
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let v: Value = serde_json::from_str(text).map_err(|e| DomainError::Json {
-            path: "(text)".to_string(),
-            message: e.to_string(),
-        })?;
-        Domain::from_json(&v)
+        Domain::from_json(&json_of(text, "(text)")?)
     }
 
     /// Builds and validates a domain from parsed JSON.
