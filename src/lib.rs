@@ -63,6 +63,7 @@ mod validity;
 // The entry point, what it takes and what it gives.
 pub use blocks::{mesh_free_then_blocks, mesh_in_blocks};
 pub use input::domain::{Domain, DomainError};
+pub use kb::answer_store;
 pub use kb::{KbError, KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
 pub use mesh::{Mesh, NodeKind};
 pub use partial_mesh::MeshStats;

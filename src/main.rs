@@ -259,7 +259,21 @@ fn features(args: cli::FeaturesArgs) -> Result<()> {
     Ok(())
 }
 
+/// Meshes the domains, the answers the engine found kept for later runs
+/// (`answer_store.rs`; a store that cannot be written is left as it was).
 fn mesh(args: cli::MeshArgs) -> Result<()> {
+    freemesh::answer_store::open(freemesh::answer_store::default_folder());
+    let stats = args.stats;
+    let done = mesh_domains(args);
+    match freemesh::answer_store::save() {
+        Ok(n) if stats && n > 0 => eprintln!("answer store: {n} new answers kept"),
+        Err(e) if stats => eprintln!("answer store: not written ({e})"),
+        _ => {}
+    }
+    done
+}
+
+fn mesh_domains(args: cli::MeshArgs) -> Result<()> {
     if args.order == 1 && args.serendipity.is_some() {
         anyhow::bail!("--serendipity is for second-order elements: give --order 2 with it");
     }
@@ -571,14 +585,15 @@ fn mesh_one(
         let quads = q.quads.max(1) as f64;
         let engine = k.engine_time.as_secs_f64();
         eprintln!(
-            "{}: engine {:.3} s in {} queries ({} more answered from the memo), {:.2} queries and {:.1} us of engine time per element; host {:.3} s",
+            "{}: engine {:.3} s in {} queries ({} more answered from the memo, {} from the answer store of earlier runs), {:.2} queries and {:.1} us of engine time per element; host {:.3} s",
             domain.name(),
             engine,
             k.engine_queries,
             k.cached_queries,
-            (k.engine_queries + k.cached_queries) as f64 / quads,
+            k.stored_answers,
+            (k.engine_queries + k.cached_queries + k.stored_answers) as f64 / quads,
             engine * 1e6 / quads,
-            elapsed - engine
+            elapsed - engine - k.build_time.as_secs_f64()
         );
         if k.second_engine_queries > 0 {
             eprintln!(
@@ -644,7 +659,7 @@ fn mesh_one(
             );
         }
         eprintln!(
-            "{}: engine start {:.3} s (before the run: built, rules consulted); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
+            "{}: engine start {:.3} s (built, rules consulted; at the first question the answer store could not answer, and counted in the stage that asked it; 0 if none); prepare {:.3} s, recursion {:.3} s, smoothing {:.3} s, check {:.3} s, the rest (reading, writing) {:.3} s",
             domain.name(),
             kb.load_time().as_secs_f64(),
             ph.prepare,

@@ -11,6 +11,7 @@
 
 use scryer_prolog::{LeafAnswer, Machine, MachineBuilder, OutputStreamConfig, StreamConfig, Term};
 
+use crate::kb::answer_store;
 use crate::kb::error::KbError;
 use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
 use crate::kb::terms::{
@@ -64,15 +65,25 @@ pub enum UserAnswer {
     Error(String),
 }
 
-/// The engine with its rules loaded.
+/// The engine with its rules loaded; built at the first question the
+/// answer store cannot answer (`answer_store.rs`).
 pub struct KnowledgeBase {
-    machine: Machine,
+    machine: Option<Machine>,
+    /// Whether what queries write goes to standard output (the prompt's).
+    to_stdout: bool,
+    /// The rules' state for the answer store: the built-in rules and the
+    /// bounds changed since; None once a user's rule may have come in (a
+    /// file, a query typed, the front stated as facts).
+    state: Option<answer_store::Key>,
+    /// Bound changes answered from the store before the engine was
+    /// built: run on it, in order, when it is.
+    pending: Vec<String>,
     /// The files loaded, in order, for messages and the REPL.
     pub(crate) files: Vec<String>,
     cache: HashMap<String, Option<Term>>,
     /// Queries sent to the engine (cache misses) and answered from the cache.
     pub(crate) stats: KbStats,
-    second: Option<SecondEngine>,
+    pub(super) second: Option<SecondEngine>,
     /// Whether `USER_LOADER` is consulted.
     user_loader: bool,
     /// The time the engine took to build and consult its files.
@@ -89,6 +100,11 @@ pub struct KbStats {
     pub engine_queries: u64,
     /// Queries answered from the memo.
     pub cached_queries: u64,
+    /// Queries answered from the answer store (kept by earlier runs).
+    pub stored_answers: u64,
+    /// The engine's build, when it happened in the run (at the first
+    /// question the store could not answer).
+    pub build_time: std::time::Duration,
     /// Time spent in the engine.
     pub engine_time: std::time::Duration,
     /// Of the engine queries, those a second engine answered in parallel.
@@ -103,6 +119,8 @@ impl KbStats {
         KbStats {
             engine_queries: self.engine_queries - before.engine_queries,
             cached_queries: self.cached_queries - before.cached_queries,
+            stored_answers: self.stored_answers - before.stored_answers,
+            build_time: self.build_time - before.build_time,
             engine_time: self.engine_time - before.engine_time,
             second_engine_queries: self.second_engine_queries - before.second_engine_queries,
             second_engine_time: self.second_engine_time - before.second_engine_time,
@@ -110,29 +128,73 @@ impl KbStats {
     }
 }
 
-/// Batches of new questions smaller than this are answered by the first
-/// engine alone: handing work over costs about a question's time.
-const SPLIT_FROM: usize = 2;
+/// The answer store's state of the built-in rules (their texts hashed
+/// once a process).
+fn initial_state() -> answer_store::Key {
+    static STATE: std::sync::OnceLock<answer_store::Key> = std::sync::OnceLock::new();
+    *STATE.get_or_init(|| {
+        let mut texts = vec![LOADER];
+        for (name, text) in BUILTIN_KB {
+            texts.extend([*name, *text]);
+        }
+        answer_store::initial_state(&texts)
+    })
+}
 
 impl KnowledgeBase {
-    /// A machine with the built-in KB loaded (about 0.1-0.2 s: build it
-    /// once per run or per worker).
+    /// The built-in KB; its engine is built (about 0.05-0.1 s) at the
+    /// first question the answer store cannot answer: build one per run
+    /// or per worker.
     pub fn builtin() -> Result<KnowledgeBase, KbError> {
-        Self::with_streams(StreamConfig::in_memory())
+        Ok(KnowledgeBase {
+            machine: None,
+            to_stdout: false,
+            state: Some(initial_state()),
+            pending: Vec::new(),
+            files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
+            cache: HashMap::new(),
+            stats: KbStats::default(),
+            second: None,
+            user_loader: false,
+            load_time: std::time::Duration::ZERO,
+            in_place: Vec::new(),
+        })
     }
 
     /// The built-in KB for a person typing queries (`freemesh repl`):
     /// what the queries write goes to standard output, and the libraries
     /// a Prolog prompt has are loaded.
     pub fn builtin_for_prompt() -> Result<KnowledgeBase, KbError> {
-        let streams = StreamConfig::in_memory().with_user_output(OutputStreamConfig::stdout());
-        let mut kb = Self::with_streams(streams)?;
+        let mut kb = Self::builtin()?;
+        kb.to_stdout = true;
         kb.load_query_libraries()?;
         Ok(kb)
     }
 
-    fn with_streams(streams: StreamConfig) -> Result<KnowledgeBase, KbError> {
+    /// Builds the engine now if it is not built (a second engine is
+    /// ready only once it can answer).
+    pub(super) fn build_now(&mut self) -> Result<(), KbError> {
+        self.engine().map(|_| ())
+    }
+
+    /// The engine, built first if it is not yet.
+    fn engine(&mut self) -> Result<&mut Machine, KbError> {
+        if self.machine.is_none() {
+            self.build()?;
+        }
+        match self.machine.as_mut() {
+            Some(m) => Ok(m),
+            None => unreachable!("built above"),
+        }
+    }
+
+    fn build(&mut self) -> Result<(), KbError> {
         let t0 = std::time::Instant::now();
+        let streams = if self.to_stdout {
+            StreamConfig::in_memory().with_user_output(OutputStreamConfig::stdout())
+        } else {
+            StreamConfig::in_memory()
+        };
         // the engine's own toplevel (its REPL, with a dozen libraries) is
         // not used here: a bare one halves the time a machine takes to
         // build; the loader and the KB load the libraries they use
@@ -144,20 +206,11 @@ impl KnowledgeBase {
         for (name, text) in BUILTIN_KB {
             machine.consult_module_string(name, text.to_string());
         }
-        let mut kb = KnowledgeBase {
-            machine,
-            files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
-            cache: HashMap::new(),
-            stats: KbStats::default(),
-            second: None,
-            user_loader: false,
-            load_time: std::time::Duration::ZERO,
-            in_place: Vec::new(),
-        };
+        self.machine = Some(machine);
         // A built-in file that did not load leaves its predicates missing:
         // check one predicate of each file so a broken build says so.
         for probe in terms::BUILT_IN_PROBES {
-            let ok = kb.run(&terms::probe_question(probe))?;
+            let ok = self.run_on_engine(&terms::probe_question(probe), usize::MAX)?;
             if ok.is_empty() {
                 return Err(KbError::Clause {
                     path: "built-in knowledge base".into(),
@@ -166,9 +219,14 @@ impl KnowledgeBase {
                 });
             }
         }
-        kb.run(terms::ONLY_BUILT_IN_RULES)?;
-        kb.load_time = t0.elapsed();
-        Ok(kb)
+        self.run_on_engine(terms::ONLY_BUILT_IN_RULES, usize::MAX)?;
+        for change in std::mem::take(&mut self.pending) {
+            self.run_on_engine(&change, usize::MAX)?;
+        }
+        let took = t0.elapsed();
+        self.load_time += took;
+        self.stats.build_time += took;
+        Ok(())
     }
 
     /// The files loaded, in order: the built-in `kb/*.pl`, then the
@@ -183,7 +241,8 @@ impl KnowledgeBase {
     }
 
     /// The time the engine took to build, consult the built-in rules and
-    /// the user's files (paid once a run, before the mesh's own clock).
+    /// the user's files (0 while the answer store answered every
+    /// question).
     pub fn load_time(&self) -> std::time::Duration {
         self.load_time
     }
@@ -202,16 +261,62 @@ impl KnowledgeBase {
 
     /// Like `run`, stopping after `limit` answers.
     fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
+        let key = self.state.map(|s| answer_store::key(s, limit, query));
+        if let Some(answers) = key.and_then(answer_store::get) {
+            self.stats.stored_answers += 1;
+            return Ok(answers);
+        }
+        self.ask_engine(query, limit, key)
+    }
+
+    /// The first answer's `R` to `query` (asked for one answer) if the
+    /// store has it; nothing is asked of the engine.
+    pub(super) fn stored_first(&mut self, query: &str) -> Option<Option<Term>> {
+        let key = answer_store::key(self.state?, 1, query);
+        let answers = answer_store::get(key)?;
+        self.stats.stored_answers += 1;
+        Some(answers.into_iter().next().and_then(|mut b| b.remove("R")))
+    }
+
+    /// Keeps `r` as the first answer's `R` to `query` (found by a batch
+    /// that asked it among others): a later run finds it however it
+    /// batches its questions.
+    pub(super) fn keep_first(&mut self, query: &str, r: Option<&Term>) {
+        if let Some(state) = self.state {
+            let answer = r.map(|t| Bindings::from([("R".to_string(), t.clone())]));
+            answer_store::put(answer_store::key(state, 1, query), &Vec::from_iter(answer));
+        }
+    }
+
+    /// Runs `query` on the engine (built first if need be), counted, and
+    /// keeps the answers under `key`.
+    fn ask_engine(
+        &mut self,
+        query: &str,
+        limit: usize,
+        key: Option<answer_store::Key>,
+    ) -> Result<Vec<Bindings>, KbError> {
+        self.build_now()?;
         let t0 = std::time::Instant::now();
         self.stats.engine_queries += 1;
+        let out = self.run_on_engine(query, limit);
+        self.stats.engine_time += t0.elapsed();
+        if let (Some(key), Ok(answers)) = (key, &out) {
+            answer_store::put(key, answers);
+        }
+        out
+    }
+
+    /// Runs `query` on the engine (built): up to `limit` answers.
+    fn run_on_engine(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
         let mut out = Vec::new();
-        for answer in self.machine.run_query(query.to_string()) {
+        let machine = self.engine()?;
+        for answer in machine.run_query(query.to_string()) {
             match answer {
                 Ok(LeafAnswer::True) => out.push(Bindings::new()),
                 Ok(LeafAnswer::False) => break,
                 Ok(LeafAnswer::LeafAnswer { bindings, .. }) => out.push(bindings),
                 Ok(LeafAnswer::Exception(e)) | Err(e) => {
-                    self.stats.engine_time += t0.elapsed();
                     let name = query.split('(').next().unwrap_or(query).to_string();
                     return Err(KbError::Query {
                         query: name,
@@ -223,8 +328,13 @@ impl KnowledgeBase {
                 break;
             }
         }
-        self.stats.engine_time += t0.elapsed();
         Ok(out)
+    }
+
+    /// From here on the answer store is not asked: a user's rule may
+    /// come in, or facts be stated, that its answers do not know.
+    pub(super) fn leave_answer_store(&mut self) {
+        self.state = None;
     }
 
     /// Runs a query the user typed (REPL): the text is handed to Prolog as
@@ -242,9 +352,15 @@ impl KnowledgeBase {
         if !text.ends_with('.') {
             text.push_str(" .");
         }
-        self.trust_rules_no_more();
+        if let Err(e) = self.trust_rules_no_more() {
+            on_answer(UserAnswer::Error(e.to_string()));
+            return;
+        }
         let q = user_query_question(&text, limit);
-        for answer in self.machine.run_query(q) {
+        let Ok(machine) = self.engine() else {
+            unreachable!("built by trust_rules_no_more")
+        };
+        for answer in machine.run_query(q) {
             let answer = match answer {
                 Ok(LeafAnswer::LeafAnswer { mut bindings, .. }) => match bindings.remove("A") {
                     Some(Term::Compound(f, args)) if f == "answer" && args.len() == 2 => {
@@ -308,14 +424,16 @@ impl KnowledgeBase {
     /// From now on the mesher's questions are bounded by the inference
     /// limit: rules other than the built-in ones may come in (a user's
     /// file or query), and one of them may run away.
-    fn trust_rules_no_more(&mut self) {
+    fn trust_rules_no_more(&mut self) -> Result<(), KbError> {
+        self.leave_answer_store();
         if !self.user_loader {
-            self.machine
+            self.engine()?
                 .consult_module_string("fm_user_loader", USER_LOADER.to_string());
             self.user_loader = true;
         }
         // a query the loader defines: it cannot fail to run
         let _ = self.run(terms::NOT_ONLY_BUILT_IN_RULES);
+        Ok(())
     }
 
     /// Loads the libraries a person typing queries expects at a Prolog
@@ -323,6 +441,7 @@ impl KnowledgeBase {
     /// engine's own toplevel brings some of them, and the machines here
     /// are built without it.
     pub fn load_query_libraries(&mut self) -> Result<(), KbError> {
+        self.leave_answer_store();
         self.run(terms::QUERY_LIBRARIES).map(|_| ())
     }
 
@@ -333,37 +452,10 @@ impl KnowledgeBase {
         self.second = None;
     }
 
-    /// Starts a second engine on another thread with the same rules (the
-    /// built-in ones and the files consulted so far), to answer part of
-    /// each batch of `ask_bounded_fresh_all`. Worth it on a machine with
-    /// a core to spare and a run of more than a fraction of a second.
-    pub fn start_second_engine(&mut self) {
-        let user_files = self.user_files().to_vec();
-        self.second = Some(Self::second_engine_loading(user_files).0);
-    }
-
-    /// A second engine that starts loading now, on its own thread, with
-    /// the built-in rules and `user_files` (as `consult_file` is given
-    /// them): a caller with a core to spare builds it while the first
-    /// engine loads, then hands it over with `take_second_engine`.
-    pub fn second_engine_loading(user_files: Vec<String>) -> SecondEngineLoading {
-        // the engine is built on the thread that uses it (it cannot move)
-        SecondEngineLoading(SecondEngine::start(move || {
-            let kb = KnowledgeBase::with_user_files(&user_files).ok()?;
-            Some(Box::new(kb) as Box<dyn Answerer>)
-        }))
-    }
-
     /// Whether a `with_bounds_in_place` call is under way (an engine
     /// built from the user's files alone would answer otherwise).
     pub fn has_bounds_in_place(&self) -> bool {
         !self.in_place.is_empty()
-    }
-
-    /// Whether this engine has a second one to share its work with
-    /// (loaded or loading).
-    pub fn has_second_engine(&self) -> bool {
-        self.second.is_some()
     }
 
     /// The built-in rules, then `user_files` consulted in turn.
@@ -375,128 +467,31 @@ impl KnowledgeBase {
         Ok(kb)
     }
 
-    /// Takes a second engine started by `second_engine_loading` (with the
-    /// same user files as this one's) to answer part of each batch.
-    pub fn take_second_engine(&mut self, second: SecondEngineLoading) {
-        self.second = Some(second.0);
-    }
-
-    /// Waits until the second engine is loaded; false if there is none,
-    /// it failed, or `timeout` passed first.
-    pub fn wait_for_second_engine(&self, timeout: std::time::Duration) -> bool {
-        let t0 = std::time::Instant::now();
-        while t0.elapsed() < timeout {
-            match self.second.as_ref().and_then(SecondEngine::is_ready) {
-                Some(true) => return true,
-                Some(false) => std::thread::sleep(std::time::Duration::from_millis(1)),
-                None => return false,
-            }
-        }
-        false
-    }
-
-    /// Hands `task` to the second engine when one is loaded and waiting
-    /// (None: there is none, or it is not ready yet; the caller does the
-    /// work itself). The task's questions are counted with the second
-    /// engine's when its result is taken by `take_from_second_engine`.
-    pub(crate) fn on_second_engine<R: Send + 'static>(
-        &mut self,
-        task: impl FnOnce(&mut KnowledgeBase) -> R + Send + 'static,
-    ) -> Option<std::sync::mpsc::Receiver<Option<(R, KbStats)>>> {
-        if !self.second_engine_ready() {
-            return None;
-        }
-        let second = self.second.as_ref()?;
-        Some(second.spawn(move |engine| {
-            // (the second engine is built as a knowledge base; were it
-            // not, the caller would do the task itself)
-            let kb = engine.as_any().downcast_mut::<KnowledgeBase>()?;
-            let before = kb.stats;
-            let r = task(kb);
-            Some((r, kb.stats.since(&before)))
-        }))
-    }
-
-    /// The result of a task handed to the second engine, its questions
-    /// counted as the second engine's (None: the engine was lost).
-    pub(crate) fn take_from_second_engine<R>(
-        &mut self,
-        rx: std::sync::mpsc::Receiver<Option<(R, KbStats)>>,
-    ) -> Option<R> {
-        let (r, used) = rx.recv().ok()??;
-        self.stats.engine_queries += used.engine_queries;
-        self.stats.cached_queries += used.cached_queries;
-        self.stats.second_engine_queries += used.engine_queries;
-        self.stats.second_engine_time += used.engine_time;
-        Some(r)
-    }
-
-    /// Whether a second engine is loaded and answering.
-    pub(super) fn second_engine_ready(&self) -> bool {
-        self.second.as_ref().and_then(SecondEngine::is_ready) == Some(true)
-    }
-
-    /// Runs `change` (a query that sets or restores bounds) here and on
-    /// the second engine, in its turn among the work handed to it; the
-    /// answers memoised are dropped on both. A second engine on which it
-    /// fails stops: it would no longer answer as this one does.
-    pub(super) fn change_bounds(&mut self, change: &str) -> Result<(), KbError> {
-        self.apply_bounds(change)?;
-        if let Some(second) = &self.second {
-            let change = change.to_string();
-            second.change(move |engine| {
-                engine
-                    .as_any()
-                    .downcast_mut::<KnowledgeBase>()
-                    .is_some_and(|kb| kb.apply_bounds(&change).is_ok())
-            });
-        }
-        Ok(())
-    }
-
-    fn apply_bounds(&mut self, change: &str) -> Result<(), KbError> {
+    pub(super) fn apply_bounds(&mut self, change: &str) -> Result<(), KbError> {
         self.cache.clear();
-        if self.run(change)?.is_empty() {
+        // a change answered from the store is made by the engine when it
+        // is built; a built engine makes it now
+        let key = self.state.map(|s| answer_store::key(s, usize::MAX, change));
+        let stored = match self.machine {
+            None => key.and_then(answer_store::get),
+            Some(_) => None,
+        };
+        let answers = match stored {
+            Some(answers) => {
+                self.stats.stored_answers += 1;
+                self.pending.push(change.to_string());
+                answers
+            }
+            None => self.ask_engine(change, usize::MAX, key)?,
+        };
+        if answers.is_empty() {
             return Err(KbError::Query {
                 query: change.split('(').next().unwrap_or(change).to_string(),
                 error: "false (it did not hold)".into(),
             });
         }
+        self.state = self.state.map(|s| answer_store::after(s, change));
         Ok(())
-    }
-
-    /// `ask_bounded_fresh` for each question, in order. A batch of
-    /// `SPLIT_FROM` or more is shared with the second engine when there
-    /// is one and it is ready: both take questions in turn.
-    pub(super) fn ask_bounded_fresh_all(&mut self, questions: Vec<Question>) -> Vec<Answer> {
-        let ready = self.second.as_ref().and_then(SecondEngine::is_ready);
-        match ready {
-            Some(true) if questions.len() >= SPLIT_FROM => {
-                let Some(second) = self.second.take() else {
-                    unreachable!("ready implies a second engine")
-                };
-                let time_before = second.time();
-                let (answers, theirs) = second.share(self, questions);
-                self.stats.engine_queries += theirs;
-                self.stats.second_engine_queries += theirs;
-                // (its time on a question still running shows next time)
-                self.stats.second_engine_time += second.time() - time_before;
-                self.second = Some(second);
-                answers
-            }
-            None if self.second.is_some() => {
-                self.second = None; // it failed to load or is gone
-                self.ask_each(&questions)
-            }
-            _ => self.ask_each(&questions),
-        }
-    }
-
-    fn ask_each(&mut self, questions: &[Question]) -> Vec<Answer> {
-        questions
-            .iter()
-            .map(|(q, ctx)| self.ask_bounded_fresh(q, ctx))
-            .collect()
     }
 
     /// The first answer's binding of `var`, memoised by query text.
@@ -538,7 +533,7 @@ impl KnowledgeBase {
             path: path.into(),
             message: e.to_string(),
         })?;
-        self.trust_rules_no_more();
+        self.trust_rules_no_more()?;
         // the engine reads a file that ends in a comment as a syntax
         // error (scryer-prolog 0.10: `% last line` after the last clause
         // gives incomplete_reduction): it reads a copy that ends in
@@ -588,9 +583,6 @@ impl KnowledgeBase {
         })
     }
 }
-
-/// A second engine on its way (`KnowledgeBase::second_engine_loading`).
-pub struct SecondEngineLoading(SecondEngine);
 
 impl Answerer for KnowledgeBase {
     fn answer(&mut self, (query, context): &Question) -> Answer {

@@ -7,17 +7,20 @@
 //! (`questions.rs`) in the host's words (`vocabulary.rs`), whose text
 //! and answers are written and read in one place (`terms.rs`).
 
+pub mod answer_store;
 mod engine;
 mod error;
 mod questions;
 mod second_engine;
 mod terms;
+mod two_engines;
 mod user_file;
 mod vocabulary;
 
-pub use engine::{KbStats, KnowledgeBase, More, SecondEngineLoading, UserAnswer};
+pub use engine::{KbStats, KnowledgeBase, More, UserAnswer};
 pub use error::KbError;
 pub use questions::RetryVariant;
+pub use two_engines::SecondEngineLoading;
 pub use vocabulary::{
     Action, Context, Corner, Designed, ElementEdge, ElementNode, FrontFacts, PatternKind,
     Redesigned, Relation,

@@ -171,8 +171,38 @@ impl KnowledgeBase {
     /// depend on who gives them); else the batch is one query, which the
     /// engine reads and compiles once.
     pub fn designs(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
+        // the answer store first, question by question: what it lacks is
+        // asked, and kept by question, however it was batched
+        let questions: Vec<String> = contexts.iter().map(terms::design_question).collect();
+        let mut designs: Vec<Option<Result<Option<Designed>, KbError>>> = contexts
+            .iter()
+            .zip(&questions)
+            .map(|(ctx, q)| {
+                let r = self.stored_first(q)?;
+                Some(read_design(ctx, terms::fault_to_error(r, "")))
+            })
+            .collect();
+        let missing: Vec<usize> = (0..contexts.len())
+            .filter(|&i| designs[i].is_none())
+            .collect();
+        let asked: Vec<Context> = missing.iter().map(|&i| contexts[i].clone()).collect();
+        for (i, design) in missing.into_iter().zip(self.designs_asked(&asked)) {
+            designs[i] = Some(design);
+        }
+        designs.into_iter().flatten().collect()
+    }
+
+    /// `designs` of the contexts the store lacks, asked of the engine.
+    fn designs_asked(&mut self, contexts: &[Context]) -> Vec<Result<Option<Designed>, KbError>> {
+        if contexts.is_empty() {
+            return Vec::new();
+        }
         if self.second_engine_ready() && contexts.len() > 1 {
             return self.designs_one_by_one(contexts);
+        }
+        if contexts.len() == 1 {
+            let answer = self.ask_bounded_fresh(&terms::design_question(&contexts[0]), "");
+            return vec![read_design(&contexts[0], answer)];
         }
         let answer = self.ask_bounded_fresh(&terms::designs_question(contexts), "");
         match answer
@@ -182,7 +212,10 @@ impl KnowledgeBase {
             Some(items) => contexts
                 .iter()
                 .zip(items)
-                .map(|(ctx, a)| read_design(ctx, terms::fault_to_error(a, "")))
+                .map(|(ctx, a)| {
+                    self.keep_first(&terms::design_question(ctx), a.as_ref());
+                    read_design(ctx, terms::fault_to_error(a, ""))
+                })
                 .collect(),
             // a batch that threw: asked one by one, so that the error is
             // the edge's own
@@ -282,6 +315,7 @@ impl KnowledgeBase {
 
     /// States the live front to the KB as facts, replacing the last.
     pub fn publish_front(&mut self, facts: &FrontFacts) -> Result<(), KbError> {
+        self.leave_answer_store();
         self.run(&terms::front_facts_statement(facts)).map(|_| ())
     }
 }
