@@ -294,18 +294,8 @@ fn mesh_domains(args: cli::MeshArgs) -> Result<()> {
         // core to spare, gets a second engine too, built beside the first,
         // to answer part of the KB's questions (on a small one its build
         // would only contend with the first's)
-        let (kb, (early, second)) = std::thread::scope(|scope| {
-            let early = scope.spawn(|| {
-                let early = read_and_discretise(&domains[0], &args);
-                let second = early
-                    .as_ref()
-                    .is_ok_and(|(_, boundary)| worth_a_second_engine(boundary))
-                    .then(|| {
-                        let files = args.kb.iter().map(|f| f.to_string_lossy().into_owned());
-                        KnowledgeBase::second_engine_loading(files.collect())
-                    });
-                (early, second)
-            });
+        let (kb, early) = std::thread::scope(|scope| {
+            let early = scope.spawn(|| read_and_discretise(&domains[0], &args));
             let kb = load_kb(&args.kb);
             let early = early
                 .join()
@@ -314,8 +304,10 @@ fn mesh_domains(args: cli::MeshArgs) -> Result<()> {
         });
         let early = early?;
         let mut kb = kb?;
-        if let Some(second) = second {
-            kb.take_second_engine(second);
+        if worth_a_second_engine(&early.1) {
+            // (beside the first engine's build: none if the answer store
+            // answers every question and the first is never built)
+            kb.start_second_engine_when_built();
         }
         let done = mesh_one(&domains[0], Some(early), &planned[0], &mut kb, &args, true);
         // The engine's heap is large after a big run and the process ends

@@ -77,13 +77,15 @@ pub struct KnowledgeBase {
     state: Option<answer_store::Key>,
     /// Bound changes answered from the store before the engine was
     /// built: run on it, in order, when it is.
-    pending: Vec<String>,
+    pub(super) pending: Vec<String>,
     /// The files loaded, in order, for messages and the REPL.
     pub(crate) files: Vec<String>,
     cache: HashMap<String, Option<Term>>,
     /// Queries sent to the engine (cache misses) and answered from the cache.
     pub(crate) stats: KbStats,
     pub(super) second: Option<SecondEngine>,
+    /// Whether a second engine starts when this one is built.
+    pub(super) second_when_built: bool,
     /// Whether `USER_LOADER` is consulted.
     user_loader: bool,
     /// The time the engine took to build and consult its files.
@@ -156,6 +158,7 @@ impl KnowledgeBase {
             cache: HashMap::new(),
             stats: KbStats::default(),
             second: None,
+            second_when_built: false,
             user_loader: false,
             load_time: std::time::Duration::ZERO,
             in_place: Vec::new(),
@@ -178,6 +181,11 @@ impl KnowledgeBase {
         self.engine().map(|_| ())
     }
 
+    /// Whether the engine is built.
+    pub fn is_built(&self) -> bool {
+        self.machine.is_some()
+    }
+
     /// The engine, built first if it is not yet.
     fn engine(&mut self) -> Result<&mut Machine, KbError> {
         if self.machine.is_none() {
@@ -191,6 +199,7 @@ impl KnowledgeBase {
 
     fn build(&mut self) -> Result<(), KbError> {
         let t0 = std::time::Instant::now();
+        self.start_second_engine_at_build();
         let streams = if self.to_stdout {
             StreamConfig::in_memory().with_user_output(OutputStreamConfig::stdout())
         } else {

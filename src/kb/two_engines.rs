@@ -23,6 +23,16 @@ impl KnowledgeBase {
         self.second = Some(Self::second_engine_loading(user_files).0);
     }
 
+    /// `start_second_engine` now if this engine is built, else when it is
+    /// (a run the answer store answers whole builds neither).
+    pub fn start_second_engine_when_built(&mut self) {
+        if self.is_built() {
+            self.start_second_engine();
+        } else {
+            self.second_when_built = true;
+        }
+    }
+
     /// A second engine that starts loading now, on its own thread, with
     /// the built-in rules and `user_files` (as `consult_file` is given
     /// them): a caller with a core to spare builds it while the first
@@ -110,6 +120,12 @@ impl KnowledgeBase {
     /// fails stops: it would no longer answer as this one does.
     pub(super) fn change_bounds(&mut self, change: &str) -> Result<(), KbError> {
         self.apply_bounds(change)?;
+        self.tell_second_engine(change);
+        Ok(())
+    }
+
+    /// Has the second engine make `change` in its turn.
+    fn tell_second_engine(&self, change: &str) {
         if let Some(second) = &self.second {
             let change = change.to_string();
             second.change(move |engine| {
@@ -119,7 +135,18 @@ impl KnowledgeBase {
                     .is_some_and(|kb| kb.apply_bounds(&change).is_ok())
             });
         }
-        Ok(())
+    }
+
+    /// As this engine's build starts: the second engine asked for by
+    /// `start_second_engine_when_built`, told the bound changes made so
+    /// far (from the answer store, while neither was built).
+    pub(super) fn start_second_engine_at_build(&mut self) {
+        if std::mem::take(&mut self.second_when_built) {
+            self.start_second_engine();
+            for change in &self.pending {
+                self.tell_second_engine(change);
+            }
+        }
     }
 
     /// `ask_bounded_fresh` for each question, in order. A batch of
