@@ -188,6 +188,44 @@ pub fn initial_state(texts: &[&str]) -> Key {
     h.0
 }
 
+/// The rules' state as the store keys it: the built-in rules and the
+/// bounds changed since, a pop of bounds giving back the state of before
+/// its push (as it gives back the bounds; else which worker of a run
+/// meshed what before would change the keys).
+#[derive(Debug, Clone)]
+pub struct RulesState {
+    now: Key,
+    pushed: Vec<Key>,
+}
+
+impl RulesState {
+    /// The state of rules whose texts give `initial` (`initial_state`).
+    pub fn new(initial: Key) -> RulesState {
+        RulesState {
+            now: initial,
+            pushed: Vec::new(),
+        }
+    }
+
+    /// The key of `query` asked for at most `limit` answers now.
+    pub fn key(&self, limit: usize, query: &str) -> Key {
+        key(self.now, limit, query)
+    }
+
+    /// The state after `change`, a pop of bounds or a push.
+    pub fn change(&mut self, change: &str, pop: bool) {
+        if pop {
+            if let Some(before) = self.pushed.pop() {
+                self.now = before;
+                return;
+            }
+        } else {
+            self.pushed.push(self.now);
+        }
+        self.now = after(self.now, change);
+    }
+}
+
 /// The state after `change` (a query that changes bounds) in `state`.
 pub fn after(state: Key, change: &str) -> Key {
     key(state, 0, change)
@@ -439,6 +477,20 @@ mod tests {
         assert!(lock.contains(&format!(
             "name = \"scryer-prolog\"\nversion = \"{version}\""
         )));
+    }
+
+    #[test]
+    fn a_pop_gives_back_the_state_of_before_its_push() {
+        let mut state = RulesState::new(initial_state(&["a"]));
+        let before = state.key(1, "q.");
+        state.change("push(a).", false);
+        let pushed = state.key(1, "q.");
+        state.change("push(b).", false);
+        assert_ne!(state.key(1, "q."), pushed);
+        state.change("pop.", true);
+        assert_eq!(state.key(1, "q."), pushed);
+        state.change("pop.", true);
+        assert_eq!(state.key(1, "q."), before);
     }
 
     #[test]

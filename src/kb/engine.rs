@@ -74,7 +74,7 @@ pub struct KnowledgeBase {
     /// The rules' state for the answer store: the built-in rules and the
     /// bounds changed since; None once a user's rule may have come in (a
     /// file, a query typed, the front stated as facts).
-    state: Option<answer_store::Key>,
+    state: Option<answer_store::RulesState>,
     /// Bound changes answered from the store before the engine was
     /// built: run on it, in order, when it is.
     pub(super) pending: Vec<String>,
@@ -152,7 +152,7 @@ impl KnowledgeBase {
         Ok(KnowledgeBase {
             machine: None,
             to_stdout: false,
-            state: Some(initial_state()),
+            state: Some(answer_store::RulesState::new(initial_state())),
             pending: Vec::new(),
             files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
             cache: HashMap::new(),
@@ -271,7 +271,7 @@ impl KnowledgeBase {
 
     /// Like `run`, stopping after `limit` answers.
     fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
-        let key = self.state.map(|s| answer_store::key(s, limit, query));
+        let key = self.state.as_ref().map(|s| s.key(limit, query));
         if let Some(answers) = key.and_then(answer_store::get) {
             self.stats.stored_answers += 1;
             return Ok(answers);
@@ -282,7 +282,7 @@ impl KnowledgeBase {
     /// The first answer's `R` to `query` (asked for one answer) if the
     /// store has it; nothing is asked of the engine.
     pub(super) fn stored_first(&mut self, query: &str) -> Option<Option<Term>> {
-        let key = answer_store::key(self.state?, 1, query);
+        let key = self.state.as_ref()?.key(1, query);
         let answers = answer_store::get(key)?;
         self.stats.stored_answers += 1;
         Some(answers.into_iter().next().and_then(|mut b| b.remove("R")))
@@ -292,9 +292,9 @@ impl KnowledgeBase {
     /// that asked it among others): a later run finds it however it
     /// batches its questions.
     pub(super) fn keep_first(&mut self, query: &str, r: Option<&Term>) {
-        if let Some(state) = self.state {
+        if let Some(state) = &self.state {
             let answer = r.map(|t| Bindings::from([("R".to_string(), t.clone())]));
-            answer_store::put(answer_store::key(state, 1, query), &Vec::from_iter(answer));
+            answer_store::put(state.key(1, query), &Vec::from_iter(answer));
         }
     }
 
@@ -481,7 +481,7 @@ impl KnowledgeBase {
         self.cache.clear();
         // a change answered from the store is made by the engine when it
         // is built; a built engine makes it now
-        let key = self.state.map(|s| answer_store::key(s, usize::MAX, change));
+        let key = self.state.as_ref().map(|s| s.key(usize::MAX, change));
         let stored = match self.machine {
             None => key.and_then(answer_store::get),
             Some(_) => None,
@@ -500,7 +500,9 @@ impl KnowledgeBase {
                 error: "false (it did not hold)".into(),
             });
         }
-        self.state = self.state.map(|s| answer_store::after(s, change));
+        if let Some(state) = &mut self.state {
+            state.change(change, change == terms::POP_BOUNDS);
+        }
         Ok(())
     }
 
