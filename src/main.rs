@@ -288,12 +288,13 @@ fn mesh_domains(args: cli::MeshArgs) -> Result<()> {
     run_outputs::remove_temporaries_on_interrupt()?;
     let planned = run_outputs::plan(&domains, &args.outputs, args.trace.as_deref())?;
     if domains.len() == 1 {
-        // the domain is read and its boundary made ready while the engine
-        // loads (the engine cannot move between threads; these can); a
-        // domain of more than a few hundred elements, on a machine with a
-        // core to spare, gets a second engine too, built beside the first,
-        // to answer part of the KB's questions (on a small one its build
-        // would only contend with the first's)
+        // the domain is read and its boundary made ready while the user's
+        // `--kb` files are consulted (the engine cannot move between
+        // threads; these can); a domain of more than a few hundred
+        // elements, on a machine with a core to spare, gets a second
+        // engine too, built beside the first, to answer part of the KB's
+        // questions (on a small one its build would only contend with the
+        // first's)
         let (kb, early) = std::thread::scope(|scope| {
             let early = scope.spawn(|| read_and_discretise(&domains[0], &args));
             let kb = load_kb(&args.kb);
@@ -305,8 +306,8 @@ fn mesh_domains(args: cli::MeshArgs) -> Result<()> {
         let early = early?;
         let mut kb = kb?;
         if worth_a_second_engine(&early.1) {
-            // (beside the first engine's build: none if the answer store
-            // answers every question and the first is never built)
+            // (with the first's build: neither if the answer store
+            // answers every question)
             kb.start_second_engine_when_built();
         }
         let done = mesh_one(&domains[0], Some(early), &planned[0], &mut kb, &args, true);

@@ -12,12 +12,14 @@
 //! Where: `$FREEMESH_ANSWER_STORE` (a folder; `off` for none), else the
 //! user's cache folder (`~/.cache/freemesh` on Linux).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
 use scryer_prolog::Term;
+
+use crate::kb::terms::Bindings;
 
 /// The file format; a change of it, of the crate's version or of any
 /// rule's text names another file.
@@ -35,9 +37,6 @@ const MOST_ANSWERS: usize = 100_000;
 
 /// The key of one question: the rules' state and the question's text.
 pub type Key = u128;
-
-/// One answer's bindings (as the engine gives them).
-type Bindings = BTreeMap<String, Term>;
 
 struct Store {
     path: PathBuf,
@@ -173,6 +172,11 @@ fn store() -> Option<&'static Mutex<Store>> {
             }))
         })
         .as_ref()
+}
+
+/// Whether this process keeps answers (`open` named a folder).
+pub fn is_open() -> bool {
+    store().is_some()
 }
 
 /// The state of rules of these texts (the loader's and the built-in

@@ -16,9 +16,10 @@ use crate::kb::error::KbError;
 use crate::kb::second_engine::{Answer, Answerer, Question, SecondEngine};
 use crate::kb::terms::{
     self, atom_or_text, binding_pair, fault_to_error, term_number, term_text, user_query_question,
+    Bindings,
 };
 use crate::kb::user_file::ConsultCopy;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 /// The built-in knowledge base, in load order (file name, text).
 pub const BUILTIN_KB: &[(&str, &str)] = &[
@@ -41,9 +42,6 @@ const USER_LOADER: &str = include_str!("user_loader.pl");
 /// (`strategy/1`) whole, one of arity 2 or more (`bound/2`) name by name,
 /// by its first argument (`fm_consult/3` in `loader.pl`).
 const SETTINGS: &[&str] = &["strategy/1", "bound/2", "graded_bound/2"];
-
-/// One answer's bindings.
-pub type Bindings = BTreeMap<String, Term>;
 
 /// Whether a query may have another answer after this one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -182,7 +180,7 @@ impl KnowledgeBase {
     }
 
     /// Whether the engine is built.
-    pub fn is_built(&self) -> bool {
+    pub(super) fn is_built(&self) -> bool {
         self.machine.is_some()
     }
 
@@ -271,7 +269,7 @@ impl KnowledgeBase {
 
     /// Like `run`, stopping after `limit` answers.
     fn run_limited(&mut self, query: &str, limit: usize) -> Result<Vec<Bindings>, KbError> {
-        let key = self.state.as_ref().map(|s| s.key(limit, query));
+        let key = self.store_key(limit, query);
         if let Some(answers) = key.and_then(answer_store::get) {
             self.stats.stored_answers += 1;
             return Ok(answers);
@@ -279,23 +277,12 @@ impl KnowledgeBase {
         self.ask_engine(query, limit, key)
     }
 
-    /// The first answer's `R` to `query` (asked for one answer) if the
-    /// store has it; nothing is asked of the engine.
-    pub(super) fn stored_first(&mut self, query: &str) -> Option<Option<Term>> {
-        let key = self.state.as_ref()?.key(1, query);
-        let answers = answer_store::get(key)?;
-        self.stats.stored_answers += 1;
-        Some(answers.into_iter().next().and_then(|mut b| b.remove("R")))
-    }
-
-    /// Keeps `r` as the first answer's `R` to `query` (found by a batch
-    /// that asked it among others): a later run finds it however it
-    /// batches its questions.
-    pub(super) fn keep_first(&mut self, query: &str, r: Option<&Term>) {
-        if let Some(state) = &self.state {
-            let answer = r.map(|t| Bindings::from([("R".to_string(), t.clone())]));
-            answer_store::put(state.key(1, query), &Vec::from_iter(answer));
-        }
+    /// The store's key of `query` asked for at most `limit` answers; None
+    /// with no store open (the text is then not hashed) or once a user's
+    /// rule may have come in.
+    pub(super) fn store_key(&self, limit: usize, query: &str) -> Option<answer_store::Key> {
+        let state = self.state.as_ref()?;
+        answer_store::is_open().then(|| state.key(limit, query))
     }
 
     /// Runs `query` on the engine (built first if need be), counted, and
@@ -362,13 +349,13 @@ impl KnowledgeBase {
         if !text.ends_with('.') {
             text.push_str(" .");
         }
-        if let Err(e) = self.trust_rules_no_more() {
-            on_answer(UserAnswer::Error(e.to_string()));
-            return;
-        }
         let q = user_query_question(&text, limit);
-        let Ok(machine) = self.engine() else {
-            unreachable!("built by trust_rules_no_more")
+        let machine = match self.trust_rules_no_more().and_then(|()| self.engine()) {
+            Ok(machine) => machine,
+            Err(e) => {
+                on_answer(UserAnswer::Error(e.to_string()));
+                return;
+            }
         };
         for answer in machine.run_query(q) {
             let answer = match answer {
@@ -481,7 +468,7 @@ impl KnowledgeBase {
         self.cache.clear();
         // a change answered from the store is made by the engine when it
         // is built; a built engine makes it now
-        let key = self.state.as_ref().map(|s| s.key(usize::MAX, change));
+        let key = self.store_key(usize::MAX, change);
         let stored = match self.machine {
             None => key.and_then(answer_store::get),
             Some(_) => None,

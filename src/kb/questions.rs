@@ -7,10 +7,11 @@
 
 use scryer_prolog::Term;
 
+use crate::kb::answer_store;
 use crate::kb::engine::KnowledgeBase;
 use crate::kb::error::KbError;
 use crate::kb::second_engine::Question;
-use crate::kb::terms;
+use crate::kb::terms::{self, Bindings};
 use crate::kb::vocabulary::{
     Action, Context, Designed, FrontFacts, Pattern, PatternKind, Redesigned, Relation,
 };
@@ -190,6 +191,24 @@ impl KnowledgeBase {
             designs[i] = Some(design);
         }
         designs.into_iter().flatten().collect()
+    }
+
+    /// The first answer's `R` to `query` (asked for one answer) if the
+    /// store has it; nothing is asked of the engine.
+    pub(super) fn stored_first(&mut self, query: &str) -> Option<Option<Term>> {
+        let answers = answer_store::get(self.store_key(1, query)?)?;
+        self.stats.stored_answers += 1;
+        Some(answers.into_iter().next().and_then(|mut b| b.remove("R")))
+    }
+
+    /// Keeps `r` as the first answer's `R` to `query` (found by a batch
+    /// that asked it among others): a later run finds it however it
+    /// batches its questions.
+    pub(super) fn keep_first(&mut self, query: &str, r: Option<&Term>) {
+        if let Some(key) = self.store_key(1, query) {
+            let answer = r.map(|t| Bindings::from([("R".to_string(), t.clone())]));
+            answer_store::put(key, &Vec::from_iter(answer));
+        }
     }
 
     /// `designs` of the contexts the store lacks, asked of the engine.

@@ -8,12 +8,16 @@
 //! degrees, ratios in hundredths or thousandths, floats always with a dot.
 
 use scryer_prolog::Term;
+use std::collections::BTreeMap;
 use std::fmt::{self, Write as _};
 
 use crate::kb::error::KbError;
 use crate::kb::vocabulary::{
     Action, Context, Corner, ElementEdge, ElementNode, FrontFacts, Relation,
 };
+
+/// One answer's bindings.
+pub type Bindings = BTreeMap<String, Term>;
 
 /// Renders a term as Prolog text (atoms quoted when needed).
 pub fn term_text(t: &Term) -> String {
