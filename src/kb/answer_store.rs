@@ -29,10 +29,11 @@ const FORMAT: &str = "freemesh answer store 2";
 /// otherwise; a test holds it to `Cargo.lock`'s).
 const ENGINE: &str = "scryer-prolog 0.10.0";
 
-/// The most answers a store keeps (about 12 MB: read in a few
+/// The most answers a store keeps (about 8 MB: read in a few
 /// milliseconds, and not parsed: the file is its own index); past it, a
-/// run's new answers take the place of kept ones chosen by key (as good
-/// as at random).
+/// run's new answers and the kept ones it used stay, and take the place
+/// of others chosen by key (as good as at random): a domain meshed again
+/// finds its answers whatever was meshed between.
 const MOST_ANSWERS: usize = 100_000;
 
 /// The key of one question: the rules' state and the question's text.
@@ -44,6 +45,8 @@ struct Store {
     read: StoreFile,
     /// Answers this run found, encoded.
     new: HashMap<Key, Vec<u8>>,
+    /// Which of the answers read this run used.
+    used: Vec<bool>,
 }
 
 /// A store file as read: the format's line, the count `n`, the `n` keys
@@ -96,22 +99,31 @@ impl StoreFile {
         self.bytes.get(self.answers_at + a..self.answers_at + b)
     }
 
-    fn get(&self, key: Key) -> Option<&[u8]> {
+    /// Where `key` is among the entries.
+    fn find(&self, key: Key) -> Option<usize> {
         let (mut lo, mut hi) = (0, self.n);
         while lo < hi {
             let mid = (lo + hi) / 2;
             match self.key(mid).cmp(&key) {
                 std::cmp::Ordering::Less => lo = mid + 1,
                 std::cmp::Ordering::Greater => hi = mid,
-                std::cmp::Ordering::Equal => return self.answer(mid),
+                std::cmp::Ordering::Equal => return Some(mid),
             }
         }
         None
     }
 
-    /// Every entry, in key order.
-    fn entries(&self) -> impl Iterator<Item = (Key, &[u8])> {
-        (0..self.n).filter_map(|i| Some((self.key(i), self.answer(i)?)))
+    fn get(&self, key: Key) -> Option<&[u8]> {
+        self.answer(self.find(key)?)
+    }
+
+    /// The entries that `first` picks, then the others, each in key order.
+    fn entries_first(&self, first: impl Fn(usize) -> bool + Copy) -> impl Iterator<Item = (Key, &[u8])> {
+        let picked = (0..self.n).filter(move |&i| first(i));
+        let others = (0..self.n).filter(move |&i| !first(i));
+        picked
+            .chain(others)
+            .filter_map(|i| Some((self.key(i), self.answer(i)?)))
     }
 
     /// The file of `entries` (in increasing key order).
@@ -134,6 +146,21 @@ impl StoreFile {
             out.extend_from_slice(a);
         }
         out
+    }
+}
+
+impl Store {
+    /// The entries to write, at most `most`, in key order: the new ones,
+    /// the read ones this run used, then others.
+    fn kept(&self, most: usize) -> Vec<(Key, &[u8])> {
+        let mut entries: Vec<(Key, &[u8])> =
+            self.new.iter().map(|(k, a)| (*k, a.as_slice())).collect();
+        entries.sort_by_key(|(k, _)| *k);
+        entries.truncate(most);
+        let room = most - entries.len();
+        entries.extend(self.read.entries_first(|i| self.used[i]).take(room));
+        entries.sort_by_key(|(k, _)| *k);
+        entries
     }
 }
 
@@ -167,6 +194,7 @@ fn store() -> Option<&'static Mutex<Store>> {
                 .unwrap_or_default();
             Some(Mutex::new(Store {
                 path,
+                used: vec![false; read.n],
                 read,
                 new: HashMap::new(),
             }))
@@ -245,12 +273,12 @@ pub fn key(state: Key, limit: usize, query: &str) -> Key {
 
 /// The answers kept for `key`, if any.
 pub fn get(key: Key) -> Option<Vec<Bindings>> {
-    let store = store()?.lock().ok()?;
-    let bytes = store
-        .read
-        .get(key)
-        .or_else(|| store.new.get(&key).map(Vec::as_slice))?;
-    decode_answers(&mut &bytes[..])
+    let mut store = store()?.lock().ok()?;
+    if let Some(i) = store.read.find(key) {
+        store.used[i] = true;
+        return decode_answers(&mut store.read.answer(i)?);
+    }
+    decode_answers(&mut store.new.get(&key)?.as_slice())
 }
 
 /// Keeps `answers` for `key` (answers holding a number the store does
@@ -281,12 +309,7 @@ pub fn save() -> Result<usize, String> {
     if store.new.is_empty() {
         return Ok(0);
     }
-    let room = MOST_ANSWERS.saturating_sub(store.new.len());
-    let mut entries: Vec<(Key, &[u8])> =
-        store.new.iter().map(|(k, a)| (*k, a.as_slice())).collect();
-    entries.extend(store.read.entries().take(room));
-    entries.sort_by_key(|(k, _)| *k);
-    let out = StoreFile::write(&entries);
+    let out = StoreFile::write(&store.kept(MOST_ANSWERS));
     let folder = store.path.parent().ok_or("no folder")?;
     std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
     let tmp = store
@@ -444,6 +467,26 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_full_store_keeps_the_new_answers_and_the_ones_used() {
+        let read: Vec<(Key, &[u8])> = (0..6u128).map(|k| (k, &b"r"[..])).collect();
+        let read = StoreFile::of(StoreFile::write(&read)).unwrap();
+        let mut used = vec![false; read.n];
+        used[4] = true;
+        used[5] = true;
+        let store = Store {
+            path: PathBuf::new(),
+            read,
+            new: HashMap::from([(9, b"n".to_vec())]),
+            used,
+        };
+        let keys = |most| store.kept(most).iter().map(|e| e.0).collect::<Vec<_>>();
+        assert_eq!(keys(3), [4, 5, 9]);
+        assert_eq!(keys(4), [0, 4, 5, 9]);
+        assert_eq!(keys(1), [9]);
+        assert_eq!(keys(10), [0, 1, 2, 3, 4, 5, 9]);
+    }
+
+    #[test]
     fn an_answer_reads_back_as_it_was_written() {
         let mut b = Bindings::new();
         b.insert(
@@ -505,7 +548,7 @@ mod tests {
             assert_eq!(file.get(*k), Some(*a));
         }
         assert_eq!(file.get(4), None);
-        assert_eq!(file.entries().collect::<Vec<_>>(), entries);
+        assert_eq!(file.entries_first(|_| false).collect::<Vec<_>>(), entries);
     }
 
     #[test]
