@@ -24,13 +24,19 @@ fn mesh(domain: &str, store: &str, out: &Path) -> (Output, Vec<u8>, Vec<u8>) {
     let text = std::fs::read_to_string(&path).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let max = v["size"].as_f64().unwrap() * 6.0;
+    mesh_with(&path, store, out, &["--max-size", &max.to_string()])
+}
+
+/// Meshes the domain file `path` with `extra` arguments, as `mesh`.
+fn mesh_with(path: &str, store: &str, out: &Path, extra: &[&str]) -> (Output, Vec<u8>, Vec<u8>) {
     let (msh, trace) = (out.with_extension("msh"), out.with_extension("trace"));
     let o = Command::new(env!("CARGO_BIN_EXE_freemesh"))
-        .args(["mesh", &path, "-o"])
+        .args(["mesh", path, "-o"])
         .arg(&msh)
         .arg("--trace")
         .arg(&trace)
-        .args(["--max-size", &max.to_string(), "--stats"])
+        .args(extra)
+        .arg("--stats")
         .env("FREEMESH_ANSWER_STORE", store)
         .output()
         .expect("the binary runs");
@@ -58,6 +64,30 @@ fn asked(o: &Output) -> (u64, u64) {
         number_before(" queries ("),
         number_before(" from the answer store"),
     )
+}
+
+/// A uniform run of a domain large enough for a second engine, made in
+/// blocks: where the store answers every question, no engine is built and
+/// the finest layout is made on a thread of its own by a twin of the
+/// knowledge base; the mesh and trace are those of a run without a store.
+#[test]
+fn a_run_the_store_answers_whole_makes_its_layouts_side_by_side_and_the_same_mesh() {
+    let dir = folder("layouts");
+    let store = dir.join("store");
+    let store = store.to_str().unwrap();
+    let path = "../shared/bench/domains/multi-connected.json";
+    let (_, alone_msh, alone_trace) = mesh_with(path, "off", &dir.join("alone"), &[]);
+    let (first, _, _) = mesh_with(path, store, &dir.join("first"), &[]);
+    assert!(asked(&first).0 > 0, "the first run asks the engine");
+    let (warm, warm_msh, warm_trace) = mesh_with(path, store, &dir.join("warm"), &[]);
+    assert_eq!(
+        asked(&warm).0,
+        0,
+        "{}",
+        String::from_utf8_lossy(&warm.stderr)
+    );
+    assert!(alone_msh == warm_msh, "the meshes differ");
+    assert!(alone_trace == warm_trace, "the traces differ");
 }
 
 #[test]

@@ -393,7 +393,9 @@ fn best_block_mesh(
             }
         }
         // the layouts' sizes; the finest (most elements) made by the
-        // second engine, when one is waiting, while this one makes the others
+        // second engine, when one is waiting, or a twin of this one where
+        // the answer store answered all so far, while this one makes the
+        // others
         let factors: Vec<f64> = LAYOUT_STEPS
             .iter()
             .map(|step| settings.host.block_size * step)
@@ -405,7 +407,7 @@ fn best_block_mesh(
         let elsewhere = match factors.split_last() {
             Some((&finest, rest)) if !rest.is_empty() => {
                 let (d, o) = (domain.clone(), opts.clone());
-                kb.on_second_engine(move |kb| {
+                kb.on_another_thread(move |kb| {
                     block_layout(&d, kb, &o, size, finest, arc_step, max_free_share)
                 })
             }

@@ -118,7 +118,10 @@ impl StoreFile {
     }
 
     /// The entries that `first` picks, then the others, each in key order.
-    fn entries_first(&self, first: impl Fn(usize) -> bool + Copy) -> impl Iterator<Item = (Key, &[u8])> {
+    fn entries_first(
+        &self,
+        first: impl Fn(usize) -> bool + Copy,
+    ) -> impl Iterator<Item = (Key, &[u8])> {
         let picked = (0..self.n).filter(move |&i| first(i));
         let others = (0..self.n).filter(move |&i| !first(i));
         picked

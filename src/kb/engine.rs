@@ -72,10 +72,13 @@ pub struct KnowledgeBase {
     /// The rules' state for the answer store: the built-in rules and the
     /// bounds changed since; None once a user's rule may have come in (a
     /// file, a query typed, the front stated as facts).
-    state: Option<answer_store::RulesState>,
+    pub(super) state: Option<answer_store::RulesState>,
     /// Bound changes answered from the store before the engine was
     /// built: run on it, in order, when it is.
     pub(super) pending: Vec<String>,
+    /// The pushes of bounds in force, outermost first (a pop takes the
+    /// last): made in turn on built-in rules, they give these bounds.
+    pub(super) pushes: Vec<String>,
     /// The files loaded, in order, for messages and the REPL.
     pub(crate) files: Vec<String>,
     cache: HashMap<String, Option<Term>>,
@@ -152,6 +155,7 @@ impl KnowledgeBase {
             to_stdout: false,
             state: Some(answer_store::RulesState::new(initial_state())),
             pending: Vec::new(),
+            pushes: Vec::new(),
             files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
             cache: HashMap::new(),
             stats: KbStats::default(),
@@ -487,8 +491,14 @@ impl KnowledgeBase {
                 error: "false (it did not hold)".into(),
             });
         }
+        let pop = change == terms::POP_BOUNDS;
         if let Some(state) = &mut self.state {
-            state.change(change, change == terms::POP_BOUNDS);
+            state.change(change, pop);
+        }
+        if pop {
+            self.pushes.pop();
+        } else {
+            self.pushes.push(change.to_string());
         }
         Ok(())
     }

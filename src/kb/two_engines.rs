@@ -95,6 +95,42 @@ impl KnowledgeBase {
         }))
     }
 
+    /// `on_second_engine`, or where the run asked for a second engine
+    /// that has not started (the answer store answered every question so
+    /// far, so neither engine was built) and this knowledge base holds the
+    /// built-in rules alone, on a thread of its own with a twin of it: the
+    /// same rules and bounds, built only at a question the store cannot
+    /// answer. None: the caller does the task itself.
+    pub(crate) fn on_another_thread<R: Send + 'static>(
+        &mut self,
+        task: impl FnOnce(&mut KnowledgeBase) -> R + Send + 'static,
+    ) -> Option<std::sync::mpsc::Receiver<Option<(R, KbStats)>>> {
+        if !self.second_when_built || self.state.is_none() {
+            return self.on_second_engine(task);
+        }
+        let (pushes, in_place) = (self.pushes.clone(), self.in_place.clone());
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            // (an engine cannot move between threads: the twin is made on
+            // the thread that uses it)
+            let twin = || -> Result<KnowledgeBase, KbError> {
+                let mut kb = KnowledgeBase::builtin()?;
+                for push in &pushes {
+                    kb.apply_bounds(push)?;
+                }
+                kb.in_place = in_place;
+                Ok(kb)
+            };
+            let done = twin().ok().map(|mut kb| {
+                let before = kb.stats;
+                let r = task(&mut kb);
+                (r, kb.stats.since(&before))
+            });
+            let _ = tx.send(done);
+        });
+        Some(rx)
+    }
+
     /// The result of a task handed to the second engine, its questions
     /// counted as the second engine's (None: the engine was lost).
     pub(crate) fn take_from_second_engine<R>(
@@ -104,6 +140,7 @@ impl KnowledgeBase {
         let (r, used) = rx.recv().ok()??;
         self.stats.engine_queries += used.engine_queries;
         self.stats.cached_queries += used.cached_queries;
+        self.stats.stored_answers += used.stored_answers;
         self.stats.second_engine_queries += used.engine_queries;
         self.stats.second_engine_time += used.engine_time;
         Some(r)
