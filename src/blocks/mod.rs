@@ -393,9 +393,10 @@ fn best_block_mesh(
             }
         }
         // the layouts' sizes; the finest (most elements) made by the
-        // second engine, when one is waiting, or a twin of this one where
-        // the answer store answered all so far, while this one makes the
-        // others
+        // second engine, when one is waiting, while this one makes the
+        // others; where twins of this knowledge base stand in for it (the
+        // answer store answered all so far), each but the coarsest on a
+        // thread of its own
         let factors: Vec<f64> = LAYOUT_STEPS
             .iter()
             .map(|step| settings.host.block_size * step)
@@ -404,25 +405,29 @@ fn best_block_mesh(
             .map(|(_, factor)| factor)
             .collect();
         let arc_step = settings.host.block_arc_step.to_radians();
-        let elsewhere = match factors.split_last() {
-            Some((&finest, rest)) if !rest.is_empty() => {
-                let (d, o) = (domain.clone(), opts.clone());
-                kb.on_another_thread(move |kb| {
-                    block_layout(&d, kb, &o, size, finest, arc_step, max_free_share)
-                })
-            }
-            _ => None,
+        let first_away = if kb.makes_twins() {
+            1
+        } else {
+            factors.len().saturating_sub(1).max(1)
         };
-        let here = factors.len() - usize::from(elsewhere.is_some());
-        let mut made: Vec<Result<Outcome, String>> = factors[..here]
+        let away: Vec<_> = factors[first_away.min(factors.len())..]
+            .iter()
+            .map(|&factor| {
+                let (d, o) = (domain.clone(), opts.clone());
+                let task = move |kb: &mut KnowledgeBase| {
+                    block_layout(&d, kb, &o, size, factor, arc_step, max_free_share)
+                };
+                (factor, kb.on_another_thread(task))
+            })
+            .collect();
+        let mut made: Vec<Result<Outcome, String>> = factors[..first_away.min(factors.len())]
             .iter()
             .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step, max_free_share))
             .collect();
-        if let Some(rx) = elsewhere {
-            let finest = factors[here];
-            made.push(match kb.take_from_second_engine(rx) {
+        for (factor, rx) in away {
+            made.push(match rx.and_then(|rx| kb.take_from_second_engine(rx)) {
                 Some(r) => r,
-                None => block_layout(domain, kb, opts, size, finest, arc_step, max_free_share),
+                None => block_layout(domain, kb, opts, size, factor, arc_step, max_free_share),
             });
         }
         for (factor, outcome) in factors.into_iter().zip(made) {

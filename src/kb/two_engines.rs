@@ -105,7 +105,7 @@ impl KnowledgeBase {
         &mut self,
         task: impl FnOnce(&mut KnowledgeBase) -> R + Send + 'static,
     ) -> Option<std::sync::mpsc::Receiver<Option<(R, KbStats)>>> {
-        if !self.second_when_built || self.state.is_none() {
+        if !self.makes_twins() {
             return self.on_second_engine(task);
         }
         let (pushes, in_place) = (self.pushes.clone(), self.in_place.clone());
@@ -129,6 +129,12 @@ impl KnowledgeBase {
             let _ = tx.send(done);
         });
         Some(rx)
+    }
+
+    /// Whether `on_another_thread` hands a task to a twin of this
+    /// knowledge base (each its own thread), not to the second engine.
+    pub(crate) fn makes_twins(&self) -> bool {
+        self.second_when_built && self.state.is_some()
     }
 
     /// The result of a task handed to the second engine, its questions
