@@ -253,7 +253,9 @@ pub(crate) fn worst_around_under(
 }
 
 /// `sine_worst_around` if it is smaller than `best`, else None (judged
-/// element by element, as `worst_around_under`).
+/// element by element, as `worst_around_under`); a search uses `Star`,
+/// which gives the same numbers.
+#[cfg(test)]
 pub(crate) fn sine_worst_around_under(
     mesh: &Mesh,
     around: &[(u32, u8)],
@@ -268,6 +270,129 @@ pub(crate) fn sine_worst_around_under(
         }
     }
     Some(-min_sin)
+}
+
+/// The elements round a node as a search moves it, for
+/// `sine_worst_around_under`'s measure: what does not change with the
+/// node's place (the two edges away from it, the corner opposite it, the
+/// fixed tips) worked out once, the same numbers as measuring afresh.
+pub(crate) struct Star {
+    node: usize,
+    elements: Vec<StarElement>,
+}
+
+struct StarElement {
+    /// The element's corners, the moving node's among them (at `at`).
+    p: [DVec2; 4],
+    at: usize,
+    /// The edges away from the node, `e[at + 1]` and `e[at + 2]`, and
+    /// their inverse lengths.
+    far: [DVec2; 2],
+    far_inv: [f64; 2],
+    skip: [bool; 4],
+    /// The opposite corner: convex or not, and its sine.
+    opposite: Option<f64>,
+    /// Where the node is at more than one corner: measured afresh.
+    whole: Option<u32>,
+}
+
+impl Star {
+    /// The elements `around` node `n` (each with the node's corner).
+    pub(crate) fn new(mesh: &Mesh, n: u32, around: &[(u32, u8)], bounds: &ElementBounds) -> Star {
+        let elements = around
+            .iter()
+            .map(|&(q, c)| {
+                let quad = mesh.quads[q as usize];
+                let at = c as usize;
+                let p = mesh.quad_points(q as usize);
+                let skip = fixed_tips(mesh, q as usize, bounds);
+                let e = |i: usize| p[(i + 1) % 4] - p[i % 4];
+                let far = [e(at + 1), e(at + 2)];
+                let far_inv = far.map(|v| 1.0 / v.length());
+                let cross = far[0].perp_dot(far[1]);
+                let opposite = (cross > 0.0).then(|| {
+                    if skip[(at + 2) % 4] {
+                        f64::INFINITY
+                    } else {
+                        cross * far_inv[1] * far_inv[0]
+                    }
+                });
+                let twice = quad.iter().filter(|&&m| m == n).count() != 1 || quad[at] != n;
+                StarElement {
+                    p,
+                    at,
+                    far,
+                    far_inv,
+                    skip,
+                    opposite,
+                    whole: twice.then_some(q),
+                }
+            })
+            .collect();
+        Star {
+            node: n as usize,
+            elements,
+        }
+    }
+
+    /// `sine_worst_around_under` with the node at its place in `mesh`.
+    pub(crate) fn sine_worst_under(
+        &self,
+        mesh: &Mesh,
+        best: f64,
+        bounds: &ElementBounds,
+    ) -> Option<f64> {
+        let mut min_sin = f64::INFINITY;
+        for el in &self.elements {
+            let s = match el.whole {
+                Some(q) => convex_sine_of(mesh, q as usize, bounds)?,
+                None => el.sine(mesh.nodes[self.node])?,
+            };
+            min_sin = min_sin.min(s);
+            if !(-min_sin < best) {
+                return None;
+            }
+        }
+        Some(-min_sin)
+    }
+}
+
+impl StarElement {
+    /// `convex_sine_but` of the element with the node at `x`: the same
+    /// products in the same order.
+    fn sine(&self, x: DVec2) -> Option<f64> {
+        let at = self.at;
+        let (next, prev) = ((at + 1) % 4, (at + 3) % 4);
+        let near = self.p[next] - x;
+        let before = x - self.p[prev];
+        let (near_inv, before_inv) = (1.0 / near.length(), 1.0 / before.length());
+        let mut min_sin = self.opposite?;
+        // corner at: e[at] after e[prev]
+        let cross = before.perp_dot(near);
+        if !(cross > 0.0) {
+            return None;
+        }
+        if !self.skip[at] {
+            min_sin = min_sin.min(cross * near_inv * before_inv);
+        }
+        // corner next: e[next] after e[at]
+        let cross = near.perp_dot(self.far[0]);
+        if !(cross > 0.0) {
+            return None;
+        }
+        if !self.skip[next] {
+            min_sin = min_sin.min(cross * self.far_inv[0] * near_inv);
+        }
+        // corner prev: e[prev] after e[at + 2]
+        let cross = self.far[1].perp_dot(before);
+        if !(cross > 0.0) {
+            return None;
+        }
+        if !self.skip[prev] {
+            min_sin = min_sin.min(cross * before_inv * self.far_inv[1]);
+        }
+        Some(min_sin)
+    }
 }
 
 /// True when every corner of the elements round a node has a sine above
@@ -399,4 +524,47 @@ pub fn aspect_taper(q: [DVec2; 4]) -> (f64, f64) {
     let m02 = ((q[0] + q[1]) / 2.0 - (q[2] + q[3]) / 2.0).length();
     let m13 = ((q[1] + q[2]) / 2.0 - (q[3] + q[0]) / 2.0).length();
     (ratio(m02, m13), taper)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The star's measure is the measure afresh, bit for bit, wherever the
+    /// node goes (convex or not, the best so far met or not), with a
+    /// sharp fixed tip among the elements.
+    #[test]
+    fn a_star_measures_as_the_elements_measured_afresh() {
+        let mut m = crate::mesh::three_by_three();
+        // a sharp tip at the corner node 0: its neighbours pulled close
+        m.nodes[1] = DVec2::new(1.0, 0.5);
+        m.nodes[4] = DVec2::new(0.5, 1.0);
+        let bounds = ElementBounds::default();
+        let n = 5u32;
+        let pairs: Vec<(u32, u8)> = (0..m.quads.len() as u32)
+            .filter_map(|q| {
+                let at = m.quads[q as usize].iter().position(|&k| k == n)?;
+                Some((q, at as u8))
+            })
+            .collect();
+        assert_eq!(pairs.len(), 4);
+        assert!(fixed_tips(&m, 0, &bounds).contains(&true));
+        let star = Star::new(&m, n, &pairs, &bounds);
+        let mut seen_none = 0;
+        for k in 0..400 {
+            let t = k as f64 * 0.37;
+            m.nodes[n as usize] = DVec2::new(1.0 + 0.9 * t.sin(), 1.0 + 0.9 * (1.7 * t).cos());
+            for best in [f64::INFINITY, -0.5, -0.9] {
+                let afresh = sine_worst_around_under(&m, &pairs, best, &bounds);
+                let by_star = star.sine_worst_under(&m, best, &bounds);
+                assert_eq!(
+                    afresh.map(f64::to_bits),
+                    by_star.map(f64::to_bits),
+                    "at {k}"
+                );
+                seen_none += usize::from(afresh.is_none());
+            }
+        }
+        assert!(seen_none > 0 && seen_none < 1200);
+    }
 }

@@ -4,9 +4,7 @@
 
 use glam::DVec2;
 
-use crate::element_quality::{
-    sine_worst_around, sine_worst_around_under, worst_around_every_corner,
-};
+use crate::element_quality::{sine_worst_around, worst_around_every_corner, Star};
 use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
 use crate::smoothing::compass_search_steps;
@@ -197,12 +195,13 @@ impl Working<'_> {
                 let pairs = self.around_pairs(n);
                 let bounds = self.bounds;
                 let start = sine_worst_around(self.mesh, &pairs, &bounds);
+                let star = Star::new(self.mesh, n, &pairs, &bounds);
                 let best = compass_search_steps(
                     self.mesh,
                     n as usize,
                     &pairs,
                     start,
-                    |m, best| sine_worst_around_under(m, &pairs, best, &bounds),
+                    |m, best| star.sine_worst_under(m, best, &bounds),
                     |w, b| w < b,
                     COMPASS_STEPS,
                 );
