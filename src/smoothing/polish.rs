@@ -88,6 +88,15 @@ fn polish_region(
     if h.is_nan() || h <= 0.0 {
         return false;
     }
+    let counts: Vec<usize> = touched
+        .iter()
+        .map(|&q| {
+            let mut v = Vec::new();
+            push_measures(mesh, q, neighbours, fixed_corner, windows, bounds, &mut v);
+            v.len()
+        })
+        .collect();
+    let layout = Layout::new(mesh, free, touched, neighbours, &counts);
     let mut x = start.clone();
     for beta in SHARPNESS {
         let value = |mesh: &mut Mesh, x: &[DVec2]| {
@@ -101,15 +110,40 @@ fn polish_region(
         let mut step = 0.05 * h;
         let delta = 1e-5 * h;
         for _ in 0..STEPS {
-            // the gradient by central differences, node by node
+            // the gradient by central differences, node by node (from a
+            // place turned over nowhere, each move measures only what it
+            // changes)
+            let base = f.is_finite().then(|| {
+                place(mesh, free, &x);
+                let m = Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds);
+                Base::of(m.values, beta)
+            });
+            let moved = |mesh: &mut Mesh, y: &[DVec2], i: usize| match &base {
+                Some(b) => {
+                    mesh.nodes[free[i] as usize] = y[i];
+                    let v = b.moved(
+                        mesh,
+                        i,
+                        &layout,
+                        touched,
+                        neighbours,
+                        fixed_corner,
+                        windows,
+                        bounds,
+                    );
+                    mesh.nodes[free[i] as usize] = x[i];
+                    v
+                }
+                None => value(mesh, y),
+            };
             let mut g = vec![DVec2::ZERO; x.len()];
             let mut y = x.clone();
             for i in 0..x.len() {
                 for axis in 0..2 {
                     y[i][axis] += delta;
-                    let up = value(mesh, &y);
+                    let up = moved(mesh, &y, i);
                     y[i][axis] -= 2.0 * delta;
-                    let down = value(mesh, &y);
+                    let down = moved(mesh, &y, i);
                     y[i][axis] = x[i][axis];
                     g[i][axis] = if up.is_finite() && down.is_finite() {
                         (up - down) / (2.0 * delta)
@@ -273,27 +307,16 @@ impl Measures {
         bounds: &ElementBounds,
     ) -> Measures {
         let mut values = Vec::with_capacity(qs.len() * 10);
-        let area = |q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
         for &q in qs {
-            let p = mesh.quad_points(q as usize);
-            let angles = crate::geometry::quad_angles(p);
-            let quad = mesh.quads[q as usize];
-            for (k, a) in angles.iter().enumerate() {
-                if fixed_corner[4 * q as usize + k] {
-                    continue;
-                }
-                let (lower, upper) = windows[quad[k] as usize];
-                values.push((lower - a).max(a - upper) / 45.0);
-            }
-            let (aspect, taper) = crate::element_quality::aspect_taper(p);
-            values.push((aspect - bounds.max_aspect) / bounds.max_aspect);
-            values.push((taper - bounds.max_taper) / bounds.max_taper);
-            let mine = area(q).max(1e-300);
-            for o in neighbours[q as usize].iter().flatten() {
-                let other = area(*o).max(1e-300);
-                let jump = (mine / other).max(other / mine).sqrt();
-                values.push((jump - bounds.max_size_jump) / bounds.max_size_jump);
-            }
+            push_measures(
+                mesh,
+                q,
+                neighbours,
+                fixed_corner,
+                windows,
+                bounds,
+                &mut values,
+            );
         }
         Measures { values }
     }
@@ -320,6 +343,175 @@ impl Measures {
             return w;
         }
         let s: f64 = self.values.iter().map(|v| (beta * (v - w)).exp()).sum();
+        w + s.ln() / beta
+    }
+}
+
+/// The measures of element q (see `Measures`), pushed onto `out`: its
+/// corners that can move, its aspect ratio and taper, its size jump to
+/// each neighbour.
+fn push_measures(
+    mesh: &Mesh,
+    q: u32,
+    neighbours: &[[Option<u32>; 4]],
+    fixed_corner: &[bool],
+    windows: &[(f64, f64)],
+    bounds: &ElementBounds,
+    out: &mut Vec<f64>,
+) {
+    let area = |q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
+    let p = mesh.quad_points(q as usize);
+    let angles = crate::geometry::quad_angles(p);
+    let quad = mesh.quads[q as usize];
+    for (k, a) in angles.iter().enumerate() {
+        if fixed_corner[4 * q as usize + k] {
+            continue;
+        }
+        let (lower, upper) = windows[quad[k] as usize];
+        out.push((lower - a).max(a - upper) / 45.0);
+    }
+    let (aspect, taper) = crate::element_quality::aspect_taper(p);
+    out.push((aspect - bounds.max_aspect) / bounds.max_aspect);
+    out.push((taper - bounds.max_taper) / bounds.max_taper);
+    let mine = area(q).max(1e-300);
+    for o in neighbours[q as usize].iter().flatten() {
+        let other = area(*o).max(1e-300);
+        let jump = (mine / other).max(other / mine).sqrt();
+        out.push((jump - bounds.max_size_jump) / bounds.max_size_jump);
+    }
+}
+
+/// A region's measures at one place of its free nodes, for the
+/// gradient's moves of one node at a time: a move measures again only
+/// the elements whose measures it changes (those at the node and their
+/// neighbours), and takes the soft maximum's other terms as they were;
+/// the same numbers as `Measures::of` and `soft_max` afresh.
+struct Base {
+    values: Vec<f64>,
+    worst: f64,
+    /// Each value's term of the soft maximum's sum.
+    terms: Vec<f64>,
+    beta: f64,
+}
+
+/// Where each element's measures are in a region's, and which elements
+/// a move of each free node changes.
+struct Layout {
+    /// Per element of the region: where its measures start (and, last,
+    /// their count).
+    starts: Vec<usize>,
+    /// Per free node: the region's elements (their places in it) whose
+    /// measures its place changes.
+    changed: Vec<Vec<usize>>,
+    /// Per free node: the elements with it as a corner.
+    at: Vec<Vec<u32>>,
+}
+
+impl Layout {
+    fn new(
+        mesh: &Mesh,
+        free: &[u32],
+        touched: &[u32],
+        neighbours: &[[Option<u32>; 4]],
+        counts: &[usize],
+    ) -> Layout {
+        let mut starts = Vec::with_capacity(touched.len() + 1);
+        let mut sum = 0;
+        for c in counts {
+            starts.push(sum);
+            sum += c;
+        }
+        starts.push(sum);
+        let mut changed = vec![Vec::new(); free.len()];
+        let mut at = vec![Vec::new(); free.len()];
+        for (j, &q) in touched.iter().enumerate() {
+            let mut nodes: Vec<u32> = mesh.quads[q as usize].to_vec();
+            for o in neighbours[q as usize].iter().flatten() {
+                nodes.extend(mesh.quads[*o as usize]);
+            }
+            nodes.sort_unstable();
+            nodes.dedup();
+            for n in nodes {
+                if let Ok(i) = free.binary_search(&n) {
+                    changed[i].push(j);
+                }
+            }
+            for n in mesh.quads[q as usize] {
+                if let Ok(i) = free.binary_search(&n) {
+                    if !at[i].contains(&q) {
+                        at[i].push(q);
+                    }
+                }
+            }
+        }
+        Layout {
+            starts,
+            changed,
+            at,
+        }
+    }
+}
+
+impl Base {
+    fn of(values: Vec<f64>, beta: f64) -> Base {
+        let worst = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let terms = values.iter().map(|v| (beta * (v - worst)).exp()).collect();
+        Base {
+            values,
+            worst,
+            terms,
+            beta,
+        }
+    }
+
+    /// The soft maximum with free node `i` where the mesh has it (every
+    /// other node at the base's place; the base turned over nowhere).
+    #[allow(clippy::too_many_arguments)]
+    fn moved(
+        &self,
+        mesh: &Mesh,
+        i: usize,
+        layout: &Layout,
+        touched: &[u32],
+        neighbours: &[[Option<u32>; 4]],
+        fixed_corner: &[bool],
+        windows: &[(f64, f64)],
+        bounds: &ElementBounds,
+    ) -> f64 {
+        if turned_over(mesh, &layout.at[i]) {
+            return f64::INFINITY;
+        }
+        let mut values = self.values.clone();
+        let mut fresh = Vec::new();
+        for &j in &layout.changed[i] {
+            fresh.clear();
+            push_measures(
+                mesh,
+                touched[j],
+                neighbours,
+                fixed_corner,
+                windows,
+                bounds,
+                &mut fresh,
+            );
+            values[layout.starts[j]..layout.starts[j + 1]].copy_from_slice(&fresh);
+        }
+        let w = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !w.is_finite() {
+            return w;
+        }
+        let beta = self.beta;
+        let s: f64 = if w.to_bits() == self.worst.to_bits() {
+            let mut terms = self.terms.clone();
+            for &j in &layout.changed[i] {
+                for k in layout.starts[j]..layout.starts[j + 1] {
+                    terms[k] = (beta * (values[k] - w)).exp();
+                }
+            }
+            terms.iter().sum()
+        } else {
+            values.iter().map(|v| (beta * (v - w)).exp()).sum()
+        };
         w + s.ln() / beta
     }
 }
@@ -370,6 +562,68 @@ mod tests {
                 assert_eq!(m.nodes[n], before.nodes[n]);
             }
         }
+    }
+
+    /// A move of one free node measured from the base gives the soft
+    /// maximum measured afresh, bit for bit: where it changes the worst
+    /// measure and where it does not, and where it turns an element over.
+    #[test]
+    fn a_move_from_the_base_measures_as_the_region_afresh() {
+        let d = DVec2::new(0.42, 0.42);
+        let mut m = grid([d, d, DVec2::ZERO, DVec2::ZERO]);
+        let b = ElementBounds::default();
+        let around = node_elements(&m);
+        let neighbours = element_neighbours(&m, &around);
+        let fixed = fixed_corners(&m);
+        let windows = corner_windows(&m, &around, &b);
+        let free: Vec<u32> = vec![5, 6, 9, 10];
+        let touched = elements_of(&around, &free);
+        let counts: Vec<usize> = touched
+            .iter()
+            .map(|&q| {
+                let mut v = Vec::new();
+                push_measures(&m, q, &neighbours, &fixed, &windows, &b, &mut v);
+                v.len()
+            })
+            .collect();
+        let layout = Layout::new(&m, &free, &touched, &neighbours, &counts);
+        let afresh = |m: &Mesh, beta: f64| {
+            if turned_over(m, &touched) {
+                return f64::INFINITY;
+            }
+            Measures::of(m, &touched, &neighbours, &fixed, &windows, &b).soft_max(beta)
+        };
+        let (mut same_worst, mut other_worst, mut turned) = (0, 0, 0);
+        for beta in SHARPNESS {
+            let base_values = Measures::of(&m, &touched, &neighbours, &fixed, &windows, &b).values;
+            let base = Base::of(base_values, beta);
+            for (i, &n) in free.iter().enumerate() {
+                let at = m.nodes[n as usize];
+                for k in 0..24 {
+                    let t = k as f64 * 0.7;
+                    let r = 0.05 * (1 + k % 4) as f64 * if k % 7 == 6 { 12.0 } else { 1.0 };
+                    m.nodes[n as usize] = at + r * DVec2::new(t.cos(), t.sin());
+                    let want = afresh(&m, beta);
+                    let got =
+                        base.moved(&m, i, &layout, &touched, &neighbours, &fixed, &windows, &b);
+                    assert_eq!(want.to_bits(), got.to_bits(), "node {n}, move {k}");
+                    let worst =
+                        Measures::of(&m, &touched, &neighbours, &fixed, &windows, &b).worst();
+                    if !want.is_finite() {
+                        turned += 1;
+                    } else if worst.to_bits() == base.worst.to_bits() {
+                        same_worst += 1;
+                    } else {
+                        other_worst += 1;
+                    }
+                }
+                m.nodes[n as usize] = at;
+            }
+        }
+        assert!(
+            same_worst > 0 && other_worst > 0 && turned > 0,
+            "{same_worst} {other_worst} {turned}"
+        );
     }
 
     /// `bound(polish_rings, 0)` leaves the mesh as it is, and so does a
