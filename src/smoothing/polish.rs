@@ -36,11 +36,14 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
     let neighbours = element_neighbours(mesh, &around);
     let fixed_corner = fixed_corners(mesh);
     let windows = corner_windows(mesh, &around, bounds);
+    let how = Measuring {
+        neighbours: &neighbours,
+        fixed_corner: &fixed_corner,
+        windows: &windows,
+        bounds,
+    };
     let past: Vec<u32> = (0..mesh.quads.len() as u32)
-        .filter(|&q| {
-            let m = Measures::of(mesh, &[q], &neighbours, &fixed_corner, &windows, bounds);
-            m.worst() > 0.0
-        })
+        .filter(|&q| Measures::of(mesh, &[q], &how).worst() > 0.0)
         .collect();
     let mut done = vec![false; mesh.quads.len()];
     let mut better = 0;
@@ -56,15 +59,7 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
         for &t in &touched {
             done[t as usize] = true;
         }
-        if polish_region(
-            mesh,
-            &free,
-            &touched,
-            &neighbours,
-            &fixed_corner,
-            &windows,
-            bounds,
-        ) {
+        if polish_region(mesh, &free, &touched, &how) {
             better += 1;
         }
     }
@@ -73,17 +68,9 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
 
 /// One region: its free nodes moved together by a descent on the soft
 /// maximum of its elements' measures; kept if the worst got better.
-fn polish_region(
-    mesh: &mut Mesh,
-    free: &[u32],
-    touched: &[u32],
-    neighbours: &[[Option<u32>; 4]],
-    fixed_corner: &[bool],
-    windows: &[(f64, f64)],
-    bounds: &ElementBounds,
-) -> bool {
+fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring) -> bool {
     let start: Vec<DVec2> = free.iter().map(|&n| mesh.nodes[n as usize]).collect();
-    let before = Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).past();
+    let before = Measures::of(mesh, touched, how).past();
     let h = shortest_edge(mesh, touched);
     if h.is_nan() || h <= 0.0 {
         return false;
@@ -92,11 +79,11 @@ fn polish_region(
         .iter()
         .map(|&q| {
             let mut v = Vec::new();
-            push_measures(mesh, q, neighbours, fixed_corner, windows, bounds, &mut v);
+            push_measures(mesh, q, how, &mut v);
             v.len()
         })
         .collect();
-    let layout = Layout::new(mesh, free, touched, neighbours, &counts);
+    let layout = Layout::new(mesh, free, touched, how.neighbours, &counts);
     let mut x = start.clone();
     for beta in SHARPNESS {
         let value = |mesh: &mut Mesh, x: &[DVec2]| {
@@ -104,7 +91,7 @@ fn polish_region(
             if turned_over(mesh, touched) {
                 return f64::INFINITY;
             }
-            Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).soft_max(beta)
+            Measures::of(mesh, touched, how).soft_max(beta)
         };
         let mut f = value(mesh, &x);
         let mut step = 0.05 * h;
@@ -115,22 +102,13 @@ fn polish_region(
             // changes)
             let base = f.is_finite().then(|| {
                 place(mesh, free, &x);
-                let m = Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds);
+                let m = Measures::of(mesh, touched, how);
                 Base::of(m.values, beta)
             });
             let moved = |mesh: &mut Mesh, y: &[DVec2], i: usize| match &base {
                 Some(b) => {
                     mesh.nodes[free[i] as usize] = y[i];
-                    let v = b.moved(
-                        mesh,
-                        i,
-                        &layout,
-                        touched,
-                        neighbours,
-                        fixed_corner,
-                        windows,
-                        bounds,
-                    );
+                    let v = b.moved(mesh, i, &layout, touched, how);
                     mesh.nodes[free[i] as usize] = x[i];
                     v
                 }
@@ -184,7 +162,7 @@ fn polish_region(
     let after = if turned_over(mesh, touched) {
         (usize::MAX, f64::INFINITY)
     } else {
-        Measures::of(mesh, touched, neighbours, fixed_corner, windows, bounds).past()
+        Measures::of(mesh, touched, how).past()
     };
     let better = (after.0 <= before.0 && after.1 < before.1 - 1e-9)
         || (after.0 < before.0 && after.1 <= before.1);
@@ -297,26 +275,20 @@ struct Measures {
     values: Vec<f64>,
 }
 
+/// What the measures of an element are taken against: its neighbours,
+/// the corners no move changes, each node's window, the bounds.
+struct Measuring<'a> {
+    neighbours: &'a [[Option<u32>; 4]],
+    fixed_corner: &'a [bool],
+    windows: &'a [(f64, f64)],
+    bounds: &'a ElementBounds,
+}
+
 impl Measures {
-    fn of(
-        mesh: &Mesh,
-        qs: &[u32],
-        neighbours: &[[Option<u32>; 4]],
-        fixed_corner: &[bool],
-        windows: &[(f64, f64)],
-        bounds: &ElementBounds,
-    ) -> Measures {
+    fn of(mesh: &Mesh, qs: &[u32], how: &Measuring) -> Measures {
         let mut values = Vec::with_capacity(qs.len() * 10);
         for &q in qs {
-            push_measures(
-                mesh,
-                q,
-                neighbours,
-                fixed_corner,
-                windows,
-                bounds,
-                &mut values,
-            );
+            push_measures(mesh, q, how, &mut values);
         }
         Measures { values }
     }
@@ -350,15 +322,13 @@ impl Measures {
 /// The measures of element q (see `Measures`), pushed onto `out`: its
 /// corners that can move, its aspect ratio and taper, its size jump to
 /// each neighbour.
-fn push_measures(
-    mesh: &Mesh,
-    q: u32,
-    neighbours: &[[Option<u32>; 4]],
-    fixed_corner: &[bool],
-    windows: &[(f64, f64)],
-    bounds: &ElementBounds,
-    out: &mut Vec<f64>,
-) {
+fn push_measures(mesh: &Mesh, q: u32, how: &Measuring, out: &mut Vec<f64>) {
+    let Measuring {
+        neighbours,
+        fixed_corner,
+        windows,
+        bounds,
+    } = *how;
     let area = |q: u32| crate::geometry::polygon_area(&mesh.quad_points(q as usize)).abs();
     let p = mesh.quad_points(q as usize);
     let angles = crate::geometry::quad_angles(p);
@@ -466,17 +436,13 @@ impl Base {
 
     /// The soft maximum with free node `i` where the mesh has it (every
     /// other node at the base's place; the base turned over nowhere).
-    #[allow(clippy::too_many_arguments)]
     fn moved(
         &self,
         mesh: &Mesh,
         i: usize,
         layout: &Layout,
         touched: &[u32],
-        neighbours: &[[Option<u32>; 4]],
-        fixed_corner: &[bool],
-        windows: &[(f64, f64)],
-        bounds: &ElementBounds,
+        how: &Measuring,
     ) -> f64 {
         if turned_over(mesh, &layout.at[i]) {
             return f64::INFINITY;
@@ -485,15 +451,7 @@ impl Base {
         let mut fresh = Vec::new();
         for &j in &layout.changed[i] {
             fresh.clear();
-            push_measures(
-                mesh,
-                touched[j],
-                neighbours,
-                fixed_corner,
-                windows,
-                bounds,
-                &mut fresh,
-            );
+            push_measures(mesh, touched[j], how, &mut fresh);
             values[layout.starts[j]..layout.starts[j + 1]].copy_from_slice(&fresh);
         }
         let w = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -576,13 +534,19 @@ mod tests {
         let neighbours = element_neighbours(&m, &around);
         let fixed = fixed_corners(&m);
         let windows = corner_windows(&m, &around, &b);
+        let how = Measuring {
+            neighbours: &neighbours,
+            fixed_corner: &fixed,
+            windows: &windows,
+            bounds: &b,
+        };
         let free: Vec<u32> = vec![5, 6, 9, 10];
         let touched = elements_of(&around, &free);
         let counts: Vec<usize> = touched
             .iter()
             .map(|&q| {
                 let mut v = Vec::new();
-                push_measures(&m, q, &neighbours, &fixed, &windows, &b, &mut v);
+                push_measures(&m, q, &how, &mut v);
                 v.len()
             })
             .collect();
@@ -591,11 +555,11 @@ mod tests {
             if turned_over(m, &touched) {
                 return f64::INFINITY;
             }
-            Measures::of(m, &touched, &neighbours, &fixed, &windows, &b).soft_max(beta)
+            Measures::of(m, &touched, &how).soft_max(beta)
         };
         let (mut same_worst, mut other_worst, mut turned) = (0, 0, 0);
         for beta in SHARPNESS {
-            let base_values = Measures::of(&m, &touched, &neighbours, &fixed, &windows, &b).values;
+            let base_values = Measures::of(&m, &touched, &how).values;
             let base = Base::of(base_values, beta);
             for (i, &n) in free.iter().enumerate() {
                 let at = m.nodes[n as usize];
@@ -604,11 +568,9 @@ mod tests {
                     let r = 0.05 * (1 + k % 4) as f64 * if k % 7 == 6 { 12.0 } else { 1.0 };
                     m.nodes[n as usize] = at + r * DVec2::new(t.cos(), t.sin());
                     let want = afresh(&m, beta);
-                    let got =
-                        base.moved(&m, i, &layout, &touched, &neighbours, &fixed, &windows, &b);
+                    let got = base.moved(&m, i, &layout, &touched, &how);
                     assert_eq!(want.to_bits(), got.to_bits(), "node {n}, move {k}");
-                    let worst =
-                        Measures::of(&m, &touched, &neighbours, &fixed, &windows, &b).worst();
+                    let worst = Measures::of(&m, &touched, &how).worst();
                     if !want.is_finite() {
                         turned += 1;
                     } else if worst.to_bits() == base.worst.to_bits() {
