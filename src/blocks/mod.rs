@@ -405,12 +405,14 @@ fn best_block_mesh(
             .map(|(_, factor)| factor)
             .collect();
         let arc_step = settings.host.block_arc_step.to_radians();
+        // (the first factor is always taken: never empty)
         let first_away = if kb.makes_twins() {
             1
         } else {
             factors.len().saturating_sub(1).max(1)
         };
-        let away: Vec<_> = factors[first_away.min(factors.len())..]
+        let (here, elsewhere) = factors.split_at(first_away);
+        let away: Vec<_> = elsewhere
             .iter()
             .map(|&factor| {
                 let (d, o) = (domain.clone(), opts.clone());
@@ -420,7 +422,7 @@ fn best_block_mesh(
                 (factor, kb.on_another_thread(task))
             })
             .collect();
-        let mut made: Vec<Result<Outcome, String>> = factors[..first_away.min(factors.len())]
+        let mut made: Vec<Result<Outcome, String>> = here
             .iter()
             .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step, max_free_share))
             .collect();

@@ -73,11 +73,9 @@ pub struct KnowledgeBase {
     /// bounds changed since; None once a user's rule may have come in (a
     /// file, a query typed, the front stated as facts).
     pub(super) state: Option<answer_store::RulesState>,
-    /// Bound changes answered from the store before the engine was
-    /// built: run on it, in order, when it is.
-    pub(super) pending: Vec<String>,
     /// The pushes of bounds in force, outermost first (a pop takes the
-    /// last): made in turn on built-in rules, they give these bounds.
+    /// last): made in turn on built-in rules, they give these bounds (an
+    /// engine built late, a second engine, a twin are given them).
     pub(super) pushes: Vec<String>,
     /// The files loaded, in order, for messages and the REPL.
     pub(crate) files: Vec<String>,
@@ -154,7 +152,6 @@ impl KnowledgeBase {
             machine: None,
             to_stdout: false,
             state: Some(answer_store::RulesState::new(initial_state())),
-            pending: Vec::new(),
             pushes: Vec::new(),
             files: BUILTIN_KB.iter().map(|(n, _)| n.to_string()).collect(),
             cache: HashMap::new(),
@@ -232,8 +229,9 @@ impl KnowledgeBase {
             }
         }
         self.run_on_engine(terms::ONLY_BUILT_IN_RULES, usize::MAX)?;
-        for change in std::mem::take(&mut self.pending) {
-            self.run_on_engine(&change, usize::MAX)?;
+        // the bounds changed while the store answered
+        for push in self.pushes.clone() {
+            self.run_on_engine(&push, usize::MAX)?;
         }
         let took = t0.elapsed();
         self.load_time += took;
@@ -471,7 +469,7 @@ impl KnowledgeBase {
     pub(super) fn apply_bounds(&mut self, change: &str) -> Result<(), KbError> {
         self.cache.clear();
         // a change answered from the store is made by the engine when it
-        // is built; a built engine makes it now
+        // is built (from `pushes`); a built engine makes it now
         let key = self.store_key(usize::MAX, change);
         let stored = match self.machine {
             None => key.and_then(answer_store::get),
@@ -480,7 +478,6 @@ impl KnowledgeBase {
         let answers = match stored {
             Some(answers) => {
                 self.stats.stored_answers += 1;
-                self.pending.push(change.to_string());
                 answers
             }
             None => self.ask_engine(change, usize::MAX, key)?,

@@ -181,13 +181,13 @@ impl KnowledgeBase {
     }
 
     /// As this engine's build starts: the second engine asked for by
-    /// `start_second_engine_when_built`, told the bound changes made so
-    /// far (from the answer store, while neither was built).
+    /// `start_second_engine_when_built`, told the bounds in force (changed
+    /// while the store answered and neither was built).
     pub(super) fn start_second_engine_at_build(&mut self) {
         if std::mem::take(&mut self.second_when_built) {
             self.start_second_engine();
-            for change in &self.pending {
-                self.tell_second_engine(change);
+            for push in &self.pushes {
+                self.tell_second_engine(push);
             }
         }
     }
