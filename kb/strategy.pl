@@ -253,11 +253,13 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   only for one that meets every bound; the trace's first step says so.
 %   0: never.
 % boundary_slide: where an element is still past the bounds after the
-%   clean-up, easing may slide a boundary node that lies inside an input
-%   edge along that edge, straight or arc (never an input vertex), at least
-%   this share of the way between its neighbours from either: in a spike
-%   or a slot nearly every node is on the boundary, and the elements
-%   there have no other room. 0: boundary nodes stay where they were put.
+%   clean-up, easing (one node at a time) and then the polish (the nodes
+%   round it together, polish_rings) may slide a boundary node that lies
+%   inside an input edge along that edge, straight or arc (never an input
+%   vertex), at least this share of the way between its neighbours from
+%   either: in a spike or a slot nearly every node is on the boundary,
+%   and the elements there have no other room. 0: boundary nodes stay
+%   where they were put.
 % polish_rings: where an element is still past the bounds after the
 %   easing, the free nodes within this many rings of elements round it
 %   move together (smoothing moves one at a time, and a corner or a size

@@ -749,8 +749,8 @@ pub(crate) fn finish_mesh(
         smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
         last_changes = Some(touched);
     }
-    // corners still outside the window: their neighbours make room (a
-    // node slid along an arc changes the area its loop's segments enclose)
+    // corners still outside the window: their neighbours make room (a node
+    // slid along an arc, here or polished, changes the area enclosed)
     let enclosed = mesh.loops_area();
     let slid = smoothing::ease_bad_corners(&mut mesh, bounds).1;
     stats.boundary_slides += slid;
@@ -759,7 +759,7 @@ pub(crate) fn finish_mesh(
     } else {
         0
     };
-    let area = if slid > 0 {
+    let area = if slid > 0 || stats.polished > 0 {
         area + mesh.loops_area() - enclosed
     } else {
         area

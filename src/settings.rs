@@ -72,9 +72,10 @@ pub struct ElementBounds {
     pub cos2_lower: f64,
     /// cos² of the upper corner, likewise.
     pub cos2_upper: f64,
-    /// `boundary_slide`: easing may slide a boundary node inside an
-    /// input edge along it (straight or arc), keeping at least this share of the
-    /// way between its neighbours from either (0: no boundary node moves).
+    /// `boundary_slide`: easing and the polish may slide a boundary node
+    /// inside an input edge along it (straight or arc), keeping at least
+    /// this share of the way between its neighbours from either (0: no
+    /// boundary node moves).
     pub boundary_slide: f64,
     /// `polish_rings`: the free nodes within this many rings of elements
     /// round an element still past the bounds after smoothing and

@@ -624,6 +624,40 @@ fn within_bounds(q: &freemesh::Quality, sharpest_input: f64) -> bool {
         && q.max_size_jump <= 2.0
 }
 
+/// The polish slides boundary nodes along their input edges too, with
+/// the free nodes round them (`bound(boundary_slide, 0.2)`): a star
+/// (seed 5435, a corner of 39 degrees left by the clean-up) and a spike
+/// of 28.7 degrees (seed 5261, a corner of 144 next to the tip), both of
+/// the fresh draw, come within every bound; with boundary nodes held
+/// where the division put them (tests/kb/no-boundary-slide.pl) they do
+/// not, nor did they with easing's slides alone, before the polish slid.
+#[test]
+fn the_polish_slides_boundary_nodes_into_the_bounds() {
+    for (seed, sharpest) in [(5435u64, 60.3), (5261, 28.7)] {
+        let domain = Domain::from_json(&generate(seed)).unwrap();
+        let mesh = |files: &[&str]| {
+            let mut kb = KnowledgeBase::builtin().unwrap();
+            for f in files {
+                kb.consult_file(f).unwrap();
+            }
+            // the command line's way: blocks, retries and the coarser pass
+            mesh_free_then_blocks(&domain, None, &mut kb, &Options::default(), &mut |_| {}).unwrap()
+        };
+        let held = mesh(&["tests/kb/no-boundary-slide.pl"]);
+        let slid = mesh(&[]);
+        assert!(
+            !within_bounds(&held.quality, sharpest),
+            "seed {seed} within the bounds with its boundary nodes held: {:?}",
+            held.quality
+        );
+        assert!(
+            within_bounds(&slid.quality, sharpest),
+            "seed {seed} slid: {:?}",
+            slid.quality
+        );
+    }
+}
+
 /// With the free mesh first (`bound(blocks_first, 0)`), a free mesh with
 /// elements outside the bounds is meshed again in blocks, and the better
 /// kept, saying so in the trace's first step: a star with a coarse fixed

@@ -69,24 +69,7 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usiz
         next.dedup();
         quads = next;
     }
-    let mut rails = if bounds.boundary_slide > 0.0 {
-        boundary_rails(mesh)
-    } else {
-        vec![None; mesh.nodes.len()]
-    };
-    // an element at a tip of the input takes its corner from the nodes
-    // either side (the first segments' chords): one on an arc stays,
-    // lest a slide along it make the tip sharper than the input's
-    for (q, quad) in mesh.quads.iter().enumerate() {
-        for (k, tip) in fixed_tips(mesh, q, bounds).into_iter().enumerate() {
-            let tip = tip && mesh.is_input_vertex(quad[k] as usize);
-            for side in [quad[(k + 1) % 4] as usize, quad[(k + 3) % 4] as usize] {
-                if tip && rails[side].is_some_and(|r| on_an_arc(mesh, side, r)) {
-                    rails[side] = None;
-                }
-            }
-        }
-    }
+    let rails = slide_rails(mesh, bounds);
     let nodes: Vec<usize> = (0..mesh.nodes.len())
         .filter(|&n| {
             near[n]
@@ -172,6 +155,30 @@ pub fn ease_bad_corners(mesh: &mut Mesh, bounds: &ElementBounds) -> (usize, usiz
     (moved, slid)
 }
 
+/// For each node, the two boundary neighbours it may slide between
+/// (`boundary_rails`; none with `bound(boundary_slide, 0)`): an element
+/// at a tip of the input takes its corner from the nodes either side (the
+/// first segments' chords), so one of those on an arc stays, lest a slide
+/// along it make the tip sharper than the input's.
+pub(super) fn slide_rails(mesh: &Mesh, bounds: &ElementBounds) -> Vec<Option<(u32, u32)>> {
+    let mut rails = if bounds.boundary_slide > 0.0 {
+        boundary_rails(mesh)
+    } else {
+        vec![None; mesh.nodes.len()]
+    };
+    for (q, quad) in mesh.quads.iter().enumerate() {
+        for (k, tip) in fixed_tips(mesh, q, bounds).into_iter().enumerate() {
+            let tip = tip && mesh.is_input_vertex(quad[k] as usize);
+            for side in [quad[(k + 1) % 4] as usize, quad[(k + 3) % 4] as usize] {
+                if tip && rails[side].is_some_and(|r| on_an_arc(mesh, side, r)) {
+                    rails[side] = None;
+                }
+            }
+        }
+    }
+    rails
+}
+
 /// The squared degrees the corners round a node come within `MARGIN` of
 /// the window's edges or past them (fixed tips left out).
 fn strain(mesh: &Mesh, around: &[(u32, u8)], bounds: &ElementBounds) -> f64 {
@@ -205,7 +212,7 @@ fn on_an_arc(mesh: &Mesh, n: usize, (a, b): (u32, u32)) -> bool {
 /// neighbours: the straight input edge they lie on, or the circle of the
 /// input arc (or circle) they lie on.
 #[derive(Debug, Clone, Copy)]
-enum Rail {
+pub(super) enum Rail {
     Line(DVec2, DVec2),
     /// Centre, radius, the angle at the first neighbour and the signed
     /// sweep to the second.
@@ -257,7 +264,7 @@ fn boundary_rails(mesh: &Mesh) -> Vec<Option<(u32, u32)>> {
 /// is at: the line where the three are in line, else their circle (None
 /// where `p` is not between the two, or is off their line by a millionth
 /// of its length or less: a straight edge's node rounded off it).
-fn rail_through(pa: DVec2, p: DVec2, pb: DVec2) -> Option<(Rail, f64)> {
+pub(super) fn rail_through(pa: DVec2, p: DVec2, pb: DVec2) -> Option<(Rail, f64)> {
     let ab = pb - pa;
     if (p - pa).perp_dot(ab).abs() <= 1e-12 * ab.length_squared() {
         let between = (p - pa).dot(ab) > 0.0 && (p - pb).dot(ab) < 0.0;

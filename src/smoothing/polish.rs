@@ -6,10 +6,15 @@
 //! on a soft maximum of every measure of the elements they touch
 //! (corners against the window, size jumps against neighbours, aspect
 //! ratio and taper, each as a share of its bound), kept only where the
-//! worst of those measures gets better and no element turns over.
+//! worst of those measures gets better and no element turns over. A
+//! boundary node inside an input edge is free too, along that edge (as
+//! easing slides it, `bound(boundary_slide, _)`): at a spike's tip or in
+//! a small domain of few segments the nodes are nearly all on the
+//! boundary, and where they sit along it decides the corners.
 
 use glam::DVec2;
 
+use super::ease::{rail_through, slide_rails, Rail};
 use super::strips::{element_neighbours, node_elements};
 use crate::mesh::{Mesh, NodeKind};
 use crate::settings::ElementBounds;
@@ -34,7 +39,8 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
     }
     let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh, &around);
-    let fixed_corner = fixed_corners(mesh);
+    let rails = slide_rails(mesh, bounds);
+    let fixed_corner = fixed_corners(mesh, &rails);
     let windows = corner_windows(mesh, &around, bounds);
     let how = Measuring {
         neighbours: &neighbours,
@@ -51,7 +57,7 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
         if done[q as usize] {
             continue;
         }
-        let free = free_nodes_near(mesh, &around, q, rings);
+        let free = free_nodes_near(mesh, &around, &rails, q, rings);
         if free.is_empty() || free.len() > MOST_FREE_NODES {
             continue;
         }
@@ -59,7 +65,11 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
         for &t in &touched {
             done[t as usize] = true;
         }
-        if polish_region(mesh, &free, &touched, &how) {
+        let freedom: Vec<Freedom> = free
+            .iter()
+            .map(|&n| Freedom::of(mesh, n, rails[n as usize], bounds.boundary_slide))
+            .collect();
+        if polish_region(mesh, &free, &freedom, &touched, &how) {
             better += 1;
         }
     }
@@ -68,7 +78,13 @@ pub fn polish_past_bounds(mesh: &mut Mesh, bounds: &ElementBounds) -> usize {
 
 /// One region: its free nodes moved together by a descent on the soft
 /// maximum of its elements' measures; kept if the worst got better.
-fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring) -> bool {
+fn polish_region(
+    mesh: &mut Mesh,
+    free: &[u32],
+    freedom: &[Freedom],
+    touched: &[u32],
+    how: &Measuring,
+) -> bool {
     let start: Vec<DVec2> = free.iter().map(|&n| mesh.nodes[n as usize]).collect();
     let before = Measures::of(mesh, touched, how).past();
     let h = shortest_edge(mesh, touched);
@@ -88,7 +104,7 @@ fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring
     for beta in SHARPNESS {
         let value = |mesh: &mut Mesh, x: &[DVec2]| {
             place(mesh, free, x);
-            if turned_over(mesh, touched) {
+            if turned_over(mesh, touched) || !on_their_rails(mesh, freedom, x) {
                 return f64::INFINITY;
             }
             Measures::of(mesh, touched, how).soft_max(beta)
@@ -108,6 +124,10 @@ fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring
             let moved = |mesh: &mut Mesh, y: &[DVec2], i: usize| match &base {
                 Some(b) => {
                     mesh.nodes[free[i] as usize] = y[i];
+                    if !freedom[i].keeps_to(mesh, y[i]) {
+                        mesh.nodes[free[i] as usize] = x[i];
+                        return f64::INFINITY;
+                    }
                     let v = b.moved(mesh, i, &layout, touched, how);
                     mesh.nodes[free[i] as usize] = x[i];
                     v
@@ -116,18 +136,37 @@ fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring
             };
             let mut g = vec![DVec2::ZERO; x.len()];
             let mut y = x.clone();
+            let slope = |up: f64, down: f64| {
+                if up.is_finite() && down.is_finite() {
+                    (up - down) / (2.0 * delta)
+                } else {
+                    0.0
+                }
+            };
             for i in 0..x.len() {
-                for axis in 0..2 {
-                    y[i][axis] += delta;
+                if let Freedom::Plane = freedom[i] {
+                    for axis in 0..2 {
+                        y[i][axis] += delta;
+                        let up = moved(mesh, &y, i);
+                        y[i][axis] -= 2.0 * delta;
+                        let down = moved(mesh, &y, i);
+                        y[i][axis] = x[i][axis];
+                        g[i][axis] = slope(up, down);
+                    }
+                } else {
+                    // along the rail: one way, the length along it in x
+                    y[i] = freedom[i].moved(x[i], DVec2::X * delta);
                     let up = moved(mesh, &y, i);
-                    y[i][axis] -= 2.0 * delta;
+                    y[i] = freedom[i].moved(x[i], DVec2::X * -delta);
                     let down = moved(mesh, &y, i);
-                    y[i][axis] = x[i][axis];
-                    g[i][axis] = if up.is_finite() && down.is_finite() {
-                        (up - down) / (2.0 * delta)
-                    } else {
-                        0.0
+                    y[i] = x[i];
+                    // at the share it keeps, one way only
+                    let along = match (up.is_finite(), down.is_finite()) {
+                        (true, false) => (up - f) / delta,
+                        (false, true) => (f - down) / delta,
+                        _ => slope(up, down),
                     };
+                    g[i] = DVec2::new(along, 0.0);
                 }
             }
             let norm = g.iter().map(|v| v.length_squared()).sum::<f64>().sqrt();
@@ -141,7 +180,11 @@ fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring
                 let y: Vec<DVec2> = x
                     .iter()
                     .zip(&g)
-                    .map(|(p, d)| *p - *d * (step / norm))
+                    .zip(freedom)
+                    .map(|((p, d), f)| match f {
+                        Freedom::Plane => *p - *d * (step / norm),
+                        Freedom::Rail { .. } => f.moved(*p, -*d * (step / norm)),
+                    })
                     .collect();
                 let fy = value(mesh, &y);
                 if fy < f {
@@ -172,6 +215,119 @@ fn polish_region(mesh: &mut Mesh, free: &[u32], touched: &[u32], how: &Measuring
         place(mesh, free, &start);
         false
     }
+}
+
+/// How a free node moves: anywhere (an interior node), or along the
+/// input edge it lies inside (a boundary node with a rail, ease.rs),
+/// keeping at least a share of the way from either boundary neighbour.
+#[derive(Debug, Clone, Copy)]
+enum Freedom {
+    Plane,
+    Rail {
+        ends: (u32, u32),
+        along: Along,
+        keep: f64,
+    },
+}
+
+/// A rail's way: a straight edge's direction, or an arc's centre.
+#[derive(Debug, Clone, Copy)]
+enum Along {
+    Line(DVec2),
+    Arc(DVec2),
+}
+
+impl Freedom {
+    /// Node n's freedom, with its rail (None: an interior node, or a
+    /// boundary node that stays); the share it keeps from either end is
+    /// `keep`, or less where it starts nearer.
+    fn of(mesh: &Mesh, n: u32, rail: Option<(u32, u32)>, keep: f64) -> Freedom {
+        let Some((a, b)) = rail else {
+            return Freedom::Plane;
+        };
+        let (pa, p, pb) = (
+            mesh.nodes[a as usize],
+            mesh.nodes[n as usize],
+            mesh.nodes[b as usize],
+        );
+        let along = match rail_through(pa, p, pb) {
+            Some((Rail::Line(..), _)) => Along::Line((pb - pa).normalize()),
+            Some((Rail::Arc(centre, ..), _)) => Along::Arc(centre),
+            None => return Freedom::Plane,
+        };
+        let mut f = Freedom::Rail {
+            ends: (a, b),
+            along,
+            keep: 0.0,
+        };
+        let start = f.share(mesh, p);
+        if let Freedom::Rail { keep: k, .. } = &mut f {
+            *k = keep.min(start) * (1.0 - 1e-9);
+        }
+        f
+    }
+
+    /// Where a node at `p` goes moved by `d` (along a rail, by `d.x`'s
+    /// length along it).
+    fn moved(&self, p: DVec2, d: DVec2) -> DVec2 {
+        match *self {
+            Freedom::Plane => p + d,
+            Freedom::Rail {
+                along: Along::Line(u),
+                ..
+            } => p + u * d.x,
+            Freedom::Rail {
+                along: Along::Arc(c),
+                ..
+            } => {
+                let r = p - c;
+                c + DVec2::from_angle(d.x / r.length()).rotate(r)
+            }
+        }
+    }
+
+    /// The lesser share of the way from the rail's ends a node at `p` is
+    /// (0 or less: not between them).
+    fn share(&self, mesh: &Mesh, p: DVec2) -> f64 {
+        let Freedom::Rail {
+            ends: (a, b),
+            along,
+            ..
+        } = *self
+        else {
+            return 1.0;
+        };
+        let (pa, pb) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
+        let (d1, d2) = match along {
+            Along::Line(u) => ((p - pa).dot(u), (pb - p).dot(u)),
+            Along::Arc(c) => {
+                let turn = |x: DVec2, y: DVec2| x.perp_dot(y).atan2(x.dot(y));
+                (turn(pa - c, p - c), turn(p - c, pb - c))
+            }
+        };
+        if d1 * d2 <= 0.0 {
+            return 0.0;
+        }
+        d1.abs().min(d2.abs()) / (d1.abs() + d2.abs())
+    }
+
+    /// Whether a node at `p` keeps its share of the way (a plane's
+    /// always).
+    fn keeps_to(&self, mesh: &Mesh, p: DVec2) -> bool {
+        match *self {
+            Freedom::Plane => true,
+            Freedom::Rail { keep, .. } => {
+                let share = self.share(mesh, p);
+                share > 0.0 && share >= keep
+            }
+        }
+    }
+}
+
+/// Whether every node on a rail keeps its share of the way, its ends
+/// where the mesh has them.
+fn on_their_rails(mesh: &Mesh, freedom: &[Freedom], x: &[DVec2]) -> bool {
+    freedom.iter().zip(x).all(|(f, &p)| f.keeps_to(mesh, p))
 }
 
 fn place(mesh: &mut Mesh, free: &[u32], x: &[DVec2]) {
@@ -210,8 +366,14 @@ fn elements_of(around: &[Vec<(u32, u8)>], nodes: &[u32]) -> Vec<u32> {
 }
 
 /// The interior nodes within `rings` rings of elements round element q,
-/// sorted.
-fn free_nodes_near(mesh: &Mesh, around: &[Vec<(u32, u8)>], q: u32, rings: usize) -> Vec<u32> {
+/// and the boundary nodes there that may slide along a rail, sorted.
+fn free_nodes_near(
+    mesh: &Mesh,
+    around: &[Vec<(u32, u8)>],
+    rails: &[Option<(u32, u32)>],
+    q: u32,
+    rings: usize,
+) -> Vec<u32> {
     let mut nodes: Vec<u32> = mesh.quads[q as usize].to_vec();
     for _ in 1..rings {
         nodes = elements_of(around, &nodes)
@@ -221,16 +383,17 @@ fn free_nodes_near(mesh: &Mesh, around: &[Vec<(u32, u8)>], q: u32, rings: usize)
     }
     nodes.sort_unstable();
     nodes.dedup();
-    nodes.retain(|&n| mesh.kinds[n as usize] == NodeKind::Interior);
+    nodes.retain(|&n| mesh.kinds[n as usize] == NodeKind::Interior || rails[n as usize].is_some());
     nodes
 }
 
 /// Per corner (4 q + k), whether no move of a free node changes it: its
-/// node and both neighbours in the element fixed (a lone element at a
-/// boundary node, an input corner). Such a corner is left out of the
-/// measures: nothing here can change it.
-fn fixed_corners(mesh: &Mesh) -> Vec<bool> {
-    let fixed = |n: u32| mesh.kinds[n as usize] != NodeKind::Interior;
+/// node and both neighbours in the element fixed (boundary nodes with no
+/// rail: a lone element at an input corner). Such a corner is left out
+/// of the measures: nothing here can change it.
+fn fixed_corners(mesh: &Mesh, rails: &[Option<(u32, u32)>]) -> Vec<bool> {
+    let fixed =
+        |n: u32| mesh.kinds[n as usize] != NodeKind::Interior && rails[n as usize].is_none();
     mesh.quads
         .iter()
         .flat_map(|quad| {
@@ -532,7 +695,8 @@ mod tests {
         let b = ElementBounds::default();
         let around = node_elements(&m);
         let neighbours = element_neighbours(&m, &around);
-        let fixed = fixed_corners(&m);
+        let rails = slide_rails(&m, &b);
+        let fixed = fixed_corners(&m, &rails);
         let windows = corner_windows(&m, &around, &b);
         let how = Measuring {
             neighbours: &neighbours,

@@ -159,6 +159,44 @@ fn a_boundary_node_slides_along_its_arc_to_ease_a_corner() {
     }
 }
 
+/// A size jump two boundary nodes hold between them (the strip's middle
+/// nodes, bottom and top, both pushed to x = 0.3: elements 0.3 and 1.7
+/// wide, a jump of 2.38; one moved alone turns the corners past the
+/// window): the polish slides both along their edges together, each stays
+/// on its edge between its neighbours; with `bound(boundary_slide, 0)`
+/// they stay where they are.
+#[test]
+fn the_polish_slides_boundary_nodes_along_their_edges_together() {
+    let pushed = || {
+        let mut m = strip_with_a_pushed_bottom_node(&[0, 2, 3, 5]);
+        m.nodes[4] = DVec2::new(0.3, 0.5);
+        m
+    };
+    let jump = |m: &Mesh| {
+        let (a, b) = (
+            crate::element_quality::quad_area(m, 0),
+            crate::element_quality::quad_area(m, 1),
+        );
+        (a / b).max(b / a).sqrt()
+    };
+    let bounds = ElementBounds::default();
+    let mut m = pushed();
+    assert!(jump(&m) > 2.3, "{}", jump(&m));
+    assert_eq!(crate::smoothing::polish_past_bounds(&mut m, &bounds), 1);
+    assert!(jump(&m) <= 2.0, "a jump of {}", jump(&m));
+    assert_eq!((m.nodes[1].y, m.nodes[4].y), (0.0, 0.5), "left their edges");
+    for n in [1, 4] {
+        assert!(m.nodes[n].x > 0.3 && m.nodes[n].x < 1.6, "{}", m.nodes[n]);
+    }
+    for q in 0..2 {
+        assert_eq!(crate::element_quality::badness_of(&m, q, &bounds), 0.0);
+    }
+    let mut stays = pushed();
+    let no_slide = bounds.with_boundary_slide(0.0).unwrap();
+    crate::smoothing::polish_past_bounds(&mut stays, &no_slide);
+    assert_eq!(stays.nodes, pushed().nodes);
+}
+
 /// An input vertex stays where it is, even where its edges run on in one
 /// line (a vertex that splits a side for its segment counts or tags).
 #[test]
