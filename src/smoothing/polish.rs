@@ -160,10 +160,11 @@ fn polish_region(
                     y[i] = freedom[i].moved(x[i], DVec2::X * -delta);
                     let down = moved(mesh, &y, i);
                     y[i] = x[i];
-                    // at the share it keeps, one way only
-                    let along = match (up.is_finite(), down.is_finite()) {
-                        (true, false) => (up - f) / delta,
-                        (false, true) => (f - down) / delta,
+                    // at the share it keeps, one way only (from a place
+                    // measured: turned over nowhere)
+                    let along = match (up.is_finite(), down.is_finite(), f.is_finite()) {
+                        (true, false, true) => (up - f) / delta,
+                        (false, true, true) => (f - down) / delta,
                         _ => slope(up, down),
                     };
                     g[i] = DVec2::new(along, 0.0);
