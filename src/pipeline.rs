@@ -750,7 +750,8 @@ pub(crate) fn finish_mesh(
         last_changes = Some(touched);
     }
     // corners still outside the window: their neighbours make room (a node
-    // slid along an arc, here or polished, changes the area enclosed)
+    // slid along an arc, here or polished, changes the area enclosed: a
+    // difference of exactly 0 where none moved)
     let enclosed = mesh.loops_area();
     let slid = smoothing::ease_bad_corners(&mut mesh, bounds).1;
     stats.boundary_slides += slid;
@@ -759,11 +760,7 @@ pub(crate) fn finish_mesh(
     } else {
         0
     };
-    let area = if slid > 0 || stats.polished > 0 {
-        area + mesh.loops_area() - enclosed
-    } else {
-        area
-    };
+    let area = area + (mesh.loops_area() - enclosed);
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     }

@@ -182,10 +182,7 @@ fn polish_region(
                     .iter()
                     .zip(&g)
                     .zip(freedom)
-                    .map(|((p, d), f)| match f {
-                        Freedom::Plane => *p - *d * (step / norm),
-                        Freedom::Rail { .. } => f.moved(*p, -*d * (step / norm)),
-                    })
+                    .map(|((p, d), f)| f.moved(*p, -*d * (step / norm)))
                     .collect();
                 let fy = value(mesh, &y);
                 if fy < f {
@@ -256,20 +253,16 @@ impl Freedom {
             Some((Rail::Arc(centre, ..), _)) => Along::Arc(centre),
             None => return Freedom::Plane,
         };
-        let mut f = Freedom::Rail {
+        Freedom::Rail {
             ends: (a, b),
             along,
-            keep: 0.0,
-        };
-        let start = f.share(mesh, p);
-        if let Freedom::Rail { keep: k, .. } = &mut f {
-            *k = keep.min(start) * (1.0 - 1e-9);
+            keep: keep.min(along.share(pa, p, pb)) * (1.0 - 1e-9),
         }
-        f
     }
 
     /// Where a node at `p` goes moved by `d` (along a rail, by `d.x`'s
-    /// length along it).
+    /// length along it; in the plane `p - d` is `p + (-d)` bit for bit, so
+    /// a descent step is the same either way).
     fn moved(&self, p: DVec2, d: DVec2) -> DVec2 {
         match *self {
             Freedom::Plane => p + d,
@@ -287,19 +280,28 @@ impl Freedom {
         }
     }
 
-    /// The lesser share of the way from the rail's ends a node at `p` is
-    /// (0 or less: not between them).
-    fn share(&self, mesh: &Mesh, p: DVec2) -> f64 {
-        let Freedom::Rail {
-            ends: (a, b),
-            along,
-            ..
-        } = *self
-        else {
-            return 1.0;
-        };
-        let (pa, pb) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
-        let (d1, d2) = match along {
+    /// Whether a node at `p` keeps its share of the way from its rail's
+    /// ends where the mesh has them (a plane's always).
+    fn keeps_to(&self, mesh: &Mesh, p: DVec2) -> bool {
+        match *self {
+            Freedom::Plane => true,
+            Freedom::Rail {
+                ends: (a, b),
+                along,
+                keep,
+            } => {
+                let share = along.share(mesh.nodes[a as usize], p, mesh.nodes[b as usize]);
+                share > 0.0 && share >= keep
+            }
+        }
+    }
+}
+
+impl Along {
+    /// The lesser share of the way from `pa` and `pb` a point `p` on the
+    /// rail is (0: not between them).
+    fn share(self, pa: DVec2, p: DVec2, pb: DVec2) -> f64 {
+        let (d1, d2) = match self {
             Along::Line(u) => ((p - pa).dot(u), (pb - p).dot(u)),
             Along::Arc(c) => {
                 let turn = |x: DVec2, y: DVec2| x.perp_dot(y).atan2(x.dot(y));
@@ -310,18 +312,6 @@ impl Freedom {
             return 0.0;
         }
         d1.abs().min(d2.abs()) / (d1.abs() + d2.abs())
-    }
-
-    /// Whether a node at `p` keeps its share of the way (a plane's
-    /// always).
-    fn keeps_to(&self, mesh: &Mesh, p: DVec2) -> bool {
-        match *self {
-            Freedom::Plane => true,
-            Freedom::Rail { keep, .. } => {
-                let share = self.share(mesh, p);
-                share > 0.0 && share >= keep
-            }
-        }
     }
 }
 
