@@ -134,6 +134,16 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   the limit a transition would overshoot it, and the rows after it link
 %   such edges further (a3 over two of them): at 1.5 the square of
 %   tests/grading.rs got edges of 1.63 times the limit, at 1.2 of 1.18.
+% graded_collapse_below: after smoothing, an element under this many
+%   times the size the field aims for at its middle (where fronts from
+%   different sides met, the rules leave rosettes of small elements the
+%   size field does not ask for) is collapsed, or the patch round it
+%   merged, smallest first, where its region, smoothed, stays as far
+%   within every bound as it was and no edge of it is longer than
+%   coarsest_edge times max_size (cleanup/coarsen.rs; the stats' line
+%   "coarsened to the size field"). 0: never (uniform runs, and a run
+%   graded only for a coarse boundary); 0.5 in a run graded by a
+%   max_size (graded_bound/2).
 % block_size: with --blocks, the rules first mesh the domain at this many
 %   times the element size; each of those elements becomes a block,
 %   meshed as a mapping element (src/blocks/).
@@ -298,6 +308,7 @@ bound(size_growth, 0.6).
 bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
 bound(coarsest_edge, 1.2).
+bound(graded_collapse_below, 0).
 bound(refine_ratio, 0).
 bound(uniform_size_band, 1.5).
 bound(block_size, 4).
@@ -348,9 +359,11 @@ bound(coarser_after_four_sided, 0).
 %
 % ?- graded_bound(N, V).
 %    N = row_growth, V = 2.5
-% ;  N = coarsen_ratio, V = 1.4.
+% ;  N = coarsen_ratio, V = 1.4
+% ;  N = graded_collapse_below, V = 0.5.
 graded_bound(row_growth, 2.5).
 graded_bound(coarsen_ratio, 1.4).
+graded_bound(graded_collapse_below, 0.5).
 
 %% retry_bound(?Variant, ?Name, ?Value)
 %

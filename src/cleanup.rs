@@ -41,6 +41,9 @@ use crate::settings::ElementBounds;
 use crate::element_quality::sine_worst_around_every_corner;
 
 mod changes;
+mod coarsen;
+
+pub use coarsen::coarsen_to_field;
 
 use changes::{changes, Change, Op, Working, Worst};
 
@@ -140,7 +143,12 @@ fn clean_up_on(
         &mut touched,
     );
     split_round(&mut w, &mut helper, &look_at, &mut stats, &mut touched);
-    // the collapsed elements' slots go
+    finish(w, stats, touched)
+}
+
+/// Ends a clean-up: the collapsed elements' slots go; what it did and
+/// the nodes round its changes, each once.
+fn finish(w: Working, stats: CleanupStats, mut touched: Vec<u32>) -> (CleanupStats, Vec<u32>) {
     let Working { mesh, alive, .. } = w;
     keep_alive(&mut mesh.quads, &alive);
     if !mesh.blocks.is_empty() {

@@ -608,6 +608,13 @@ fn mesh_one(
             result.stats.cleanup_collapses,
             result.stats.cleanup_splits
         );
+        if result.stats.coarsened > 0 {
+            eprintln!(
+                "{}: coarsened to the size field: {} elements under its size collapsed or merged (bound(graded_collapse_below, F))",
+                domain.name(),
+                result.stats.coarsened
+            );
+        }
         if result.stats.polished > 0 {
             eprintln!(
                 "{}: polishing brought {} regions round elements past the bounds nearer them (bound(polish_rings, R))",

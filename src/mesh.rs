@@ -101,6 +101,15 @@ impl Mesh {
             .sum()
     }
 
+    /// The area inside the loops' boundary edges (groups below `loops`).
+    pub(crate) fn boundary_area(&self, loops: u32) -> f64 {
+        self.boundary
+            .iter()
+            .filter(|e| e.group < loops)
+            .map(|e| self.nodes[e.a as usize].perp_dot(self.nodes[e.b as usize]) / 2.0)
+            .sum()
+    }
+
     /// Node coordinates.
     pub fn nodes(&self) -> &[DVec2] {
         &self.nodes

@@ -57,6 +57,9 @@ pub struct MeshStats {
     /// Moves of easing that slid a boundary node along its straight
     /// input edge (`bound(boundary_slide, S)`).
     pub boundary_slides: usize,
+    /// Elements a graded mesh lost to collapses and merges where it was
+    /// finer than its size field asks (`bound(graded_collapse_below, F)`).
+    pub coarsened: usize,
     /// Regions round elements past the bounds that polishing brought
     /// nearer them (`bound(polish_rings, R)`).
     pub polished: usize,

@@ -271,7 +271,7 @@ fn discretise_with_bounds(
         .into());
     }
     let disc = boundary::discretise(domain, size, wall, jump, &aim)?;
-    let area = boundary_area(&disc.mesh, 1 + domain.holes.len() as u32);
+    let area = disc.mesh.boundary_area(1 + domain.holes.len() as u32);
     Ok(RunBoundary {
         disc,
         size,
@@ -679,15 +679,6 @@ impl<'k> Run<'k> {
     }
 }
 
-/// The area inside the loops' boundary edges (groups below `loops`).
-pub(crate) fn boundary_area(mesh: &Mesh, loops: u32) -> f64 {
-    mesh.boundary
-        .iter()
-        .filter(|e| e.group < loops)
-        .map(|e| mesh.nodes[e.a as usize].perp_dot(mesh.nodes[e.b as usize]) / 2.0)
-        .sum()
-}
-
 /// Drops the nodes no element uses; the trace's node ids follow (-1 for
 /// a node that is gone).
 fn compact_with_trace(mesh: &mut Mesh, trace: &mut [TraceStep], vetoes: &mut [Veto]) {
@@ -726,16 +717,25 @@ pub(crate) fn finish_mesh(
         mut vetoes,
         mut stats,
         area,
+        coarsen_to,
     } = outcome;
     check::check_boundary_followed(&mesh)?;
     compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
     let t0 = Instant::now();
     smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds);
+    // a graded mesh coarsened where it is finer than its field asks
+    let mut any_collapse = false;
+    if let Some((field, below, coarsest_edge)) = &coarsen_to {
+        let (c, touched) =
+            cleanup::coarsen_to_field(&mut mesh, field, *below, *coarsest_edge, bounds);
+        stats.coarsened = c.collapses;
+        any_collapse = c.collapses > 0;
+        smoothing::smooth_near(&mut mesh, opts.smoothing_passes / 3, &touched, bounds);
+    }
     // where smoothing could not reach the bounds: the elements joined
     // up anew and the nodes round the changes smoothed again, a few
     // times while that changes something (the smoothing after a change
     // can leave a corner the next clean-up mends)
-    let mut any_collapse = false;
     let mut last_changes: Option<Vec<u32>> = None;
     for _ in 0..CLEANUP_ROUNDS {
         let (cleaned, touched) = cleanup::clean_up(&mut mesh, last_changes.as_deref(), bounds);

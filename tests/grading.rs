@@ -210,7 +210,7 @@ fn kb_with(file: &str) -> KnowledgeBase {
 /// tests/graded were drawn where those graded meshes fell short.
 const AS_BOUND: &str = "tests/kb/graded-bounds-as-bound.pl";
 const AS_BOUND_WORDS: &str =
-    "graded by a max_size: bound(row_growth, 1.5), bound(coarsen_ratio, 1.5) in place (graded_bound/2)";
+    "graded by a max_size: bound(row_growth, 1.5), bound(coarsen_ratio, 1.5), bound(graded_collapse_below, 0) in place (graded_bound/2)";
 
 /// The graded bounds (`graded_bound/2`) are in place in a run graded by
 /// a max_size, and its trace's first step names them; a uniform run does
@@ -226,7 +226,7 @@ fn a_graded_run_has_the_kbs_graded_bounds_in_place_and_a_uniform_run_not() {
     let graded = full(&mut built_in, Some(2.4));
     assert_eq!(
         graded.trace[0].redesign[0],
-        "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4) in place (graded_bound/2)"
+        "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4), bound(graded_collapse_below, 0.5) in place (graded_bound/2)"
     );
     within_the_bounds(&graded, "graded ring");
     let mut as_bound = kb_with(AS_BOUND);
@@ -245,7 +245,7 @@ fn a_graded_run_has_the_kbs_graded_bounds_in_place_and_a_uniform_run_not() {
     let graded_slower = full(&mut slower, Some(2.4));
     assert!(
         graded_slower.trace[0].redesign[0].starts_with(
-            "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4), bound(size_growth, 0.3) in place"
+            "graded by a max_size: bound(row_growth, 2.5), bound(coarsen_ratio, 1.4), bound(graded_collapse_below, 0.5), bound(size_growth, 0.3) in place"
         ),
         "{:?}",
         graded_slower.trace[0]
@@ -264,6 +264,48 @@ fn a_graded_run_has_the_kbs_graded_bounds_in_place_and_a_uniform_run_not() {
         .redesign
         .iter()
         .all(|t| !t.contains("graded_bound")));
+}
+
+/// Where fronts from different sides met, a graded mesh is finer than its
+/// size field asks; the clean-up collapses or merges the elements under
+/// `bound(graded_collapse_below, F)` times the field's size where their
+/// region stays within the bounds: fewer elements, all within them, no
+/// edge longer than `coarsest_edge` times the limit, and the stats say
+/// how many went. The KB turns it off (a graded_bound of 0).
+#[test]
+fn a_graded_mesh_is_coarsened_to_its_size_field_within_the_bounds() {
+    let d = load("examples/graded-plate.json");
+    let full = |kb: &mut KnowledgeBase| {
+        let opts = Options::default().with_trace(true);
+        mesh_free_then_blocks(&d, None, kb, &opts, &mut |_| {}).unwrap()
+    };
+    let coarsened = full(&mut KnowledgeBase::builtin().unwrap());
+    let left = full(&mut kb_with("tests/kb/no-graded-collapse.pl"));
+    assert!(
+        coarsened.trace[0].redesign[0].contains("bound(graded_collapse_below, 0.5)"),
+        "{:?}",
+        coarsened.trace[0]
+    );
+    assert!(
+        left.trace[0].redesign[0].contains("bound(graded_collapse_below, 0)"),
+        "{:?}",
+        left.trace[0]
+    );
+    within_the_bounds(&coarsened, "coarsened plate");
+    within_the_bounds(&left, "plate left as made");
+    assert_eq!(left.stats.coarsened, 0);
+    let (n, m) = (coarsened.mesh.quads().len(), left.mesh.quads().len());
+    assert!(
+        coarsened.stats.coarsened > 0 && n * 100 < m * 95,
+        "{n} against {m}"
+    );
+    // no edge longer than the graded tool's 1.5 times the limit, or than
+    // the mesh left as made has (its rows along the hole stretch one)
+    let (longest, before) = (longest_edge(&coarsened), longest_edge(&left));
+    assert!(
+        longest <= before.max(1.5 * 2.4),
+        "{longest} against {before}"
+    );
 }
 
 /// Every answer's binding of `var` to a query.
@@ -555,13 +597,16 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
 /// the mesh without its max_size a corner of 44.9 deg, within
 /// `bound(corner_slack, 0.5)` of the window, so that one is kept and the
 /// trace says why. With the slack at 0 both fall short alike and the
-/// graded mesh stays, its size jump and all.
+/// graded mesh stays, its size jump and all. (Graded meshes as the rules
+/// made them, not coarsened to their size field: coarsened, a retry's
+/// mesh is nearer the bounds and kept.)
 #[test]
 fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
     let d = load("tests/graded/mapped-corner-slack.json");
+    const NO_COLLAPSE: &str = "tests/kb/no-graded-collapse.pl";
     // unpolished: polishing brings the 44.9 deg corner within the window
     let r = kept_without_max_size(
-        &mut kb_with("tests/kb/no-polish.pl"),
+        &mut kb_with_all(&["tests/kb/no-polish.pl", NO_COLLAPSE]),
         &d,
         "mapped, corner slack",
     );
@@ -572,7 +617,11 @@ fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
         "{told:?}"
     );
     let strict = traced_run(
-        &mut kb_with_all(&["tests/kb/no-corner-slack.pl", "tests/kb/no-polish.pl"]),
+        &mut kb_with_all(&[
+            "tests/kb/no-corner-slack.pl",
+            "tests/kb/no-polish.pl",
+            NO_COLLAPSE,
+        ]),
         &d,
     );
     assert_eq!(strict.trace[0].action, "free", "{:?}", strict.trace[0]);

@@ -239,11 +239,12 @@ pub fn outcome(
     };
     Some(Ok((
         Outcome {
-            area: crate::pipeline::boundary_area(&mesh, 1),
+            area: mesh.boundary_area(1),
             mesh,
             trace,
             vetoes: Vec::new(),
             stats,
+            coarsen_to: None,
         },
         pairs,
     )))

@@ -688,11 +688,12 @@ fn blocks_of(
     stats.blocks = free.iter().filter(|&&f| !f).count();
     let loops = 1 + domain.holes.len() as u32;
     Ok(Outcome {
-        area: crate::pipeline::boundary_area(&mesh, loops),
+        area: mesh.boundary_area(loops),
         mesh,
         trace,
         vetoes: layout.vetoes,
         stats,
+        coarsen_to: None,
     })
 }
 

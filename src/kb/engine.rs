@@ -764,7 +764,13 @@ mod tests {
             .unwrap();
         assert_eq!(term_text(&inner.0), "3.0");
         assert_eq!(term_text(&inner.1), "1.4");
-        assert_eq!(placed, vec![("coarsen_ratio".to_string(), 1.4)]);
+        assert_eq!(
+            placed,
+            vec![
+                ("coarsen_ratio".to_string(), 1.4),
+                ("graded_collapse_below".to_string(), 0.5)
+            ]
+        );
         assert_eq!(bound(&mut kb, "row_growth"), before_rows);
         assert_eq!(bound(&mut kb, "coarsen_ratio"), before_coarsen);
     }

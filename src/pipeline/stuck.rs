@@ -3,7 +3,7 @@
 //! closed by triangles split into quads (the rules' elements kept), and
 //! only where both fail the whole domain by the last resort.
 
-use super::{boundary_area, finish_mesh, Error, MeshResult, Run, StoppedShort};
+use super::{finish_mesh, Error, MeshResult, Run, StoppedShort};
 use crate::fallback::stuck_loops::{self, LoopsClosed};
 use crate::fallback::triangles::mesh_by_triangles;
 use crate::mesh::Mesh;
@@ -67,7 +67,7 @@ impl Run<'_> {
             let closed =
                 stuck_loops::reopen_lost_segment(mesh, lost, rings, &self.domain, spacing).ok()?;
             // checked before the rules' outcome is taken (once only)
-            let area = boundary_area(&closed.mesh, 1 + holes);
+            let area = closed.mesh.boundary_area(1 + holes);
             let fits = check::check_boundary_followed(&closed.mesh).is_ok()
                 && check::check_mesh(&closed.mesh, area).is_ok();
             fits.then_some(closed)
@@ -190,7 +190,9 @@ impl Run<'_> {
         outcome.mesh = closed.mesh;
         // the halved boundary segments' nodes are on the curves: the
         // area the elements must cover is the new boundary's
-        outcome.area = boundary_area(&outcome.mesh, 1 + self.domain.holes.len() as u32);
+        outcome.area = outcome
+            .mesh
+            .boundary_area(1 + self.domain.holes.len() as u32);
         outcome.stats.loop_triangle_elements += closed.loop_elements;
         outcome.stats.open_loops_closed += loops;
         outcome.stats.chord_split_elements += closed.split_elements;
@@ -251,7 +253,7 @@ impl Run<'_> {
             element: vec![],
         }];
         let kb_stats = self.mesher.kb().stats;
-        let area = boundary_area(&mesh, 1 + self.domain.holes.len() as u32);
+        let area = mesh.boundary_area(1 + self.domain.holes.len() as u32);
         // the rules' attempt and the fallback count as the recursion
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
         let bounds = self.mesher.settings().element;
@@ -263,6 +265,7 @@ impl Run<'_> {
             vetoes: Vec::new(),
             stats,
             area,
+            coarsen_to: None,
         };
         let mut r = finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_stats)?;
         r.phases.prepare = self.prepare;

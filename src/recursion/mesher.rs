@@ -112,6 +112,10 @@ pub struct Outcome {
     pub stats: MeshStats,
     /// The domain's area.
     pub area: f64,
+    /// A graded run's size field and `bound(graded_collapse_below, F)`
+    /// with `bound(coarsest_edge, C)`, where F is above 0: the clean-up
+    /// coarsens to the field (cleanup/coarsen.rs).
+    pub coarsen_to: Option<(crate::size_field::SizeField, f64, f64)>,
 }
 
 /// The meshing run.
@@ -214,6 +218,12 @@ impl<'k> Mesher<'k> {
             vetoes: std::mem::take(&mut self.pm.vetoes),
             stats: self.pm.stats,
             area: self.pm.area,
+            coarsen_to: {
+                let host = &self.pm.host;
+                let below = host.graded_collapse_below;
+                let field = self.pm.size_field.take().filter(|_| below > 0.0);
+                field.map(|f| (f, below, host.coarsest_edge))
+            },
         }
     }
 

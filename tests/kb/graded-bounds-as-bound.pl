@@ -3,3 +3,4 @@
 % for a coarse boundary (the graded runs before graded_bound/2).
 graded_bound(row_growth, 1.5).
 graded_bound(coarsen_ratio, 1.5).
+graded_bound(graded_collapse_below, 0).
