@@ -309,6 +309,7 @@ bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).
 bound(coarsest_edge, 1.2).
 bound(graded_collapse_below, 0).
+bound(weighted_laplace, 0).
 bound(refine_ratio, 0).
 bound(uniform_size_band, 1.5).
 bound(block_size, 4).

@@ -308,6 +308,35 @@ fn a_graded_mesh_is_coarsened_to_its_size_field_within_the_bounds() {
     );
 }
 
+/// Laplace weighted by the size field is the KB's to turn on in graded
+/// runs (`graded_bound(weighted_laplace, 1)`): the trace's first step
+/// names it and the mesh is another; a uniform run has no field to
+/// weigh by, and its mesh is the same.
+#[test]
+fn the_kb_turns_on_laplace_weighted_by_the_size_field() {
+    let d = load("examples/graded-plate.json");
+    let full = |kb: &mut KnowledgeBase, max_size: Option<f64>| {
+        let opts = Options::default().with_max_size(max_size).with_trace(true);
+        mesh_free_then_blocks(&d, None, kb, &opts, &mut |_| {}).unwrap()
+    };
+    let mut built_in = KnowledgeBase::builtin().unwrap();
+    let mut weighted = kb_with("tests/kb/weighted-laplace.pl");
+    let (plain_graded, weighted_graded) = (full(&mut built_in, None), full(&mut weighted, None));
+    assert!(
+        weighted_graded.trace[0].redesign[0].contains("bound(weighted_laplace, 1)"),
+        "{:?}",
+        weighted_graded.trace[0]
+    );
+    assert!(!plain_graded.trace[0].redesign[0].contains("weighted_laplace"));
+    assert_ne!(plain_graded.mesh.nodes(), weighted_graded.mesh.nodes());
+    let (a, b) = (
+        full(&mut built_in, Some(0.4)),
+        full(&mut weighted, Some(0.4)),
+    );
+    assert_eq!(a.mesh.quads(), b.mesh.quads());
+    assert_eq!(a.mesh.nodes(), b.mesh.nodes());
+}
+
 /// Every answer's binding of `var` to a query.
 fn answers(kb: &mut KnowledgeBase, query: &str, var: &str) -> Vec<String> {
     let mut out = Vec::new();

@@ -200,7 +200,7 @@ pub fn outcome(
         .take(SMOOTHED_TRIALS)
         .map(|(_, mesh, patches, pairs)| {
             let mut trial = with_quads(&mesh, &patches);
-            crate::smoothing::smooth(&mut trial, 20, bounds);
+            crate::smoothing::smooth(&mut trial, 20, bounds, None);
             (key_of(&trial, pairs), mesh, patches, pairs)
         })
         // the first of equals, as before
@@ -244,7 +244,7 @@ pub fn outcome(
             trace,
             vetoes: Vec::new(),
             stats,
-            coarsen_to: None,
+            grading: None,
         },
         pairs,
     )))

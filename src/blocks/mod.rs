@@ -693,7 +693,7 @@ fn blocks_of(
         trace,
         vetoes: layout.vetoes,
         stats,
-        coarsen_to: None,
+        grading: None,
     })
 }
 

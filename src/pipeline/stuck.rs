@@ -265,7 +265,7 @@ impl Run<'_> {
             vetoes: Vec::new(),
             stats,
             area,
-            coarsen_to: None,
+            grading: None,
         };
         let mut r = finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_stats)?;
         r.phases.prepare = self.prepare;

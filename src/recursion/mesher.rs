@@ -112,10 +112,25 @@ pub struct Outcome {
     pub stats: MeshStats,
     /// The domain's area.
     pub area: f64,
-    /// A graded run's size field and `bound(graded_collapse_below, F)`
-    /// with `bound(coarsest_edge, C)`, where F is above 0: the clean-up
-    /// coarsens to the field (cleanup/coarsen.rs).
-    pub coarsen_to: Option<(crate::size_field::SizeField, f64, f64)>,
+    /// A graded run's size field and what the stages after the recursion
+    /// do with it (None where they do nothing with it).
+    pub grading: Option<Grading>,
+}
+
+/// What smoothing and the clean-up do with a graded run's size field.
+#[derive(Clone)]
+pub struct Grading {
+    /// The field.
+    pub field: crate::size_field::SizeField,
+    /// `bound(graded_collapse_below, F)`: elements under F times the
+    /// field's size are collapsed or merged (0: none; cleanup/coarsen.rs).
+    pub collapse_below: f64,
+    /// `bound(coarsest_edge, C)`: no collapse leaves an edge longer than C
+    /// times the field's limit.
+    pub coarsest_edge: f64,
+    /// `bound(weighted_laplace, 1)`: Laplace weighted by the field
+    /// (smoothing/laplace.rs).
+    pub weighted_laplace: bool,
 }
 
 /// The meshing run.
@@ -218,11 +233,20 @@ impl<'k> Mesher<'k> {
             vetoes: std::mem::take(&mut self.pm.vetoes),
             stats: self.pm.stats,
             area: self.pm.area,
-            coarsen_to: {
+            grading: {
                 let host = &self.pm.host;
-                let below = host.graded_collapse_below;
-                let field = self.pm.size_field.take().filter(|_| below > 0.0);
-                field.map(|f| (f, below, host.coarsest_edge))
+                let (below, weighted) = (host.graded_collapse_below, host.weighted_laplace >= 1.0);
+                let field = self
+                    .pm
+                    .size_field
+                    .take()
+                    .filter(|_| below > 0.0 || weighted);
+                field.map(|field| Grading {
+                    field,
+                    collapse_below: below,
+                    coarsest_edge: host.coarsest_edge,
+                    weighted_laplace: weighted,
+                })
             },
         }
     }

@@ -5,12 +5,20 @@
 //! kept only if every element round the node stays convex, its worst
 //! corner gets no worse than a bound and its aspect and taper do not
 //! leave theirs; input boundary nodes never move.
+//!
+//! In a graded run (`bound(weighted_laplace, 1)`, a graded bound) each
+//! neighbour counts by the inverse of the size the field aims for at the
+//! middle of the edge to it: in a row of elements growing by r, the
+//! plain mean pulls each node toward the coarse side (the sizes even
+//! out); weighted by 1/h, the finer side counts r times more, so a node
+//! already where the grading puts it stays.
 
 use glam::DVec2;
 
 use crate::element_quality::{badness_of, shape_worst_around, shapes_clearly_within};
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
+use crate::size_field::SizeField;
 use crate::smoothing::strips::{mark_nodes, take_free_dirty, Nodes};
 
 pub(crate) fn laplace_sweeps(
@@ -19,6 +27,7 @@ pub(crate) fn laplace_sweeps(
     nodes: &Nodes,
     dirty: &mut [bool],
     bounds: &ElementBounds,
+    weights: Option<&SizeField>,
 ) -> usize {
     let around = nodes.around;
     // only dirty nodes are looked at: the same mesh as looking at all
@@ -31,14 +40,31 @@ pub(crate) fn laplace_sweeps(
                 continue;
             }
             // Eq. 4: the two neighbours of n in each of its elements
-            let mut sum = DVec2::ZERO;
-            for &(q, c) in &around[n] {
-                let quad = mesh.quads[q as usize];
-                sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize]
-                    + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
-            }
-            let target = sum / (2.0 * around[n].len() as f64);
             let old = mesh.nodes[n];
+            let target = match weights {
+                None => {
+                    let mut sum = DVec2::ZERO;
+                    for &(q, c) in &around[n] {
+                        let quad = mesh.quads[q as usize];
+                        sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize]
+                            + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
+                    }
+                    sum / (2.0 * around[n].len() as f64)
+                }
+                Some(field) => {
+                    let (mut sum, mut total) = (DVec2::ZERO, 0.0);
+                    for &(q, c) in &around[n] {
+                        let quad = mesh.quads[q as usize];
+                        for k in [1, 3] {
+                            let p = mesh.nodes[quad[(c as usize + k) % 4] as usize];
+                            let w = 1.0 / field.at((old + p) * 0.5);
+                            sum += p * w;
+                            total += w;
+                        }
+                    }
+                    sum / total
+                }
+            };
             // settled: a move under a thousandth of an element's edge is
             // not worth the checks (and sweeps stop where all are settled)
             let (q0, c0) = around[n][0];

@@ -3,6 +3,7 @@
 
 use crate::mesh::Mesh;
 use crate::settings::ElementBounds;
+use crate::size_field::SizeField;
 use crate::smoothing::laplace::laplace_sweeps;
 use crate::smoothing::sizes::even_out_sweeps;
 use crate::smoothing::strips::{across, element_neighbours, node_elements, sweep_in_strips, Nodes};
@@ -12,8 +13,14 @@ use crate::smoothing::untangle::untangle_sweeps;
 /// the angle clean-up and the evening out of sizes, 10 sweeps each; a
 /// large mesh strip by strip (see `sweep_in_strips`), all three on a strip
 /// before the next. The corners, shapes and sizes aimed for are
-/// `bounds`. Returns the moves kept.
-pub fn smooth(mesh: &mut Mesh, laplace_passes: usize, bounds: &ElementBounds) -> usize {
+/// `bounds`; Laplace weighted by a graded run's field where `weights`
+/// (laplace.rs). Returns the moves kept.
+pub fn smooth(
+    mesh: &mut Mesh,
+    laplace_passes: usize,
+    bounds: &ElementBounds,
+    weights: Option<&SizeField>,
+) -> usize {
     let around = node_elements(mesh);
     let neighbours = element_neighbours(mesh, &around);
     sweep_in_strips(mesh, around, |mesh, nodes, dirty| {
@@ -24,6 +31,7 @@ pub fn smooth(mesh: &mut Mesh, laplace_passes: usize, bounds: &ElementBounds) ->
             &neighbours,
             dirty,
             bounds,
+            weights,
         )
     })
 }
@@ -35,6 +43,7 @@ pub fn smooth_near(
     laplace_passes: usize,
     near: &[u32],
     bounds: &ElementBounds,
+    weights: Option<&SizeField>,
 ) -> usize {
     let around = node_elements(mesh);
     let mut band = vec![false; mesh.nodes.len()];
@@ -88,6 +97,7 @@ pub fn smooth_near(
         &neighbours,
         &mut dirty,
         bounds,
+        weights,
     )
 }
 
@@ -101,6 +111,7 @@ pub(crate) fn all_sweeps(
     neighbours: &[[Option<u32>; 4]],
     dirty: &mut [bool],
     bounds: &ElementBounds,
+    weights: Option<&SizeField>,
 ) -> usize {
     let start: Vec<bool> = nodes.visit.iter().map(|&i| dirty[i as usize]).collect();
     let restart = |dirty: &mut [bool]| {
@@ -108,7 +119,7 @@ pub(crate) fn all_sweeps(
             dirty[i as usize] = d;
         }
     };
-    let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty, bounds);
+    let mut moved = laplace_sweeps(mesh, laplace_passes, nodes, dirty, bounds, weights);
     restart(dirty);
     moved += untangle_sweeps(mesh, passes, nodes, dirty, bounds);
     restart(dirty);

@@ -16,7 +16,7 @@ use crate::smoothing::untangle::*;
 /// were kept in the last sweep.
 fn laplace(mesh: &mut Mesh, passes: usize) -> usize {
     sweep_in_strips(mesh, node_elements(mesh), |mesh, nodes, dirty| {
-        laplace_sweeps(mesh, passes, nodes, dirty, &ElementBounds::default())
+        laplace_sweeps(mesh, passes, nodes, dirty, &ElementBounds::default(), None)
     })
 }
 
@@ -396,6 +396,7 @@ fn a_strip_comes_out_the_same_whichever_thread_sweeps_it() {
             &neighbours,
             dirty,
             &ElementBounds::default(),
+            None,
         )
     };
     let mut alone = m.clone();
@@ -421,6 +422,7 @@ fn bands_far_enough_apart_come_out_as_swept_together() {
             &neighbours,
             dirty,
             &ElementBounds::default(),
+            None,
         )
     };
     let columns = |a: usize, b: usize| -> Vec<bool> {
@@ -465,4 +467,65 @@ fn boundary_nodes_never_move() {
     let before = m.nodes.clone();
     laplace(&mut m, 5);
     assert_eq!(m.nodes, before);
+}
+
+/// Columns of elements growing 1.3 times a column, as a graded run's
+/// field (1 at the left edge, growing 0.3 a unit of distance) aims for:
+/// plain Laplace pulls each inner node toward the coarse side, evening
+/// the columns out; weighted by the field (`bound(weighted_laplace, 1)`)
+/// the nodes stay near where the grading put them.
+#[test]
+fn laplace_weighted_by_the_size_field_keeps_the_grading() {
+    let (cols, rows) = (7, 4);
+    let mut xs = vec![0.0];
+    for i in 0..cols {
+        let x: f64 = xs[i];
+        xs.push(x + 1.0 + 0.3 * x);
+    }
+    let graded = || {
+        let mut m = Mesh::default();
+        for y in 0..=rows {
+            for (i, &x) in xs.iter().enumerate() {
+                let inner = i > 0 && i < cols && y > 0 && y < rows;
+                let kind = if inner {
+                    NodeKind::Interior
+                } else {
+                    NodeKind::Boundary
+                };
+                m.add_node(DVec2::new(x, y as f64 * 2.0), kind);
+            }
+        }
+        let id = |x: usize, y: usize| (y * (cols + 1) + x) as u32;
+        for y in 0..rows {
+            for x in 0..cols {
+                m.quads
+                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        m
+    };
+    // segments of length 1 up the left edge: h = 1 + 0.3 x
+    let left: Vec<(DVec2, DVec2)> = (0..2 * rows)
+        .map(|k| (DVec2::new(0.0, k as f64), DVec2::new(0.0, k as f64 + 1.0)))
+        .collect();
+    let field = crate::size_field::SizeField::new(left, 0.3, 100.0).unwrap();
+    let moved = |weights: Option<&crate::size_field::SizeField>| {
+        let mut m = graded();
+        let start = m.nodes.clone();
+        let around = node_elements(&m);
+        sweep_in_strips(&mut m, around, |mesh, nodes, dirty| {
+            laplace_sweeps(mesh, 20, nodes, dirty, &ElementBounds::default(), weights)
+        });
+        m.nodes
+            .iter()
+            .zip(&start)
+            .map(|(a, b)| (*a - *b).length())
+            .fold(0.0, f64::max)
+    };
+    let (plain, weighted) = (moved(None), moved(Some(&field)));
+    assert!(plain > 0.3, "plain Laplace moved nodes by {plain}");
+    assert!(
+        weighted < plain / 100.0,
+        "weighted {weighted} against plain {plain}"
+    );
 }
