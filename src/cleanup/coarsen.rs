@@ -27,10 +27,6 @@ const OPS: [Op; 5] = [
 /// makes its neighbours larger, and may let a next one go).
 const ROUNDS: usize = 3;
 
-/// How far round a round's changes the next round looks (elements): a
-/// change's region and the nodes its smoothing moves, with a margin.
-const NEAR_RINGS: usize = 4;
-
 /// Removes elements under `below` times the size `field` aims for at
 /// their middle, where their region stays within the bounds it was
 /// within. Returns what it did and the nodes round the changes.
@@ -50,21 +46,14 @@ pub fn coarsen_to_field(
         area.sqrt() / field.at((p[0] + p[1] + p[2] + p[3]) * 0.25)
     };
     let longest_allowed = coarsest_edge * field.max_size();
-    // the first round looks at every element, the next ones only near
-    // the last round's changes: elsewhere nothing a change is judged on
-    // moved, and an element refused then is refused again
-    let mut look_at: Vec<u32> = (0..w.mesh.quads.len() as u32).collect();
     for _ in 0..ROUNDS {
-        let mut small: Vec<(f64, u32)> = look_at
-            .iter()
-            .copied()
+        let mut small: Vec<(f64, u32)> = (0..w.mesh.quads.len() as u32)
             .filter(|&q| w.alive[q as usize])
             .map(|q| (share(&w, q), q))
             .filter(|&(s, _)| s < below)
             .collect();
         small.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let before = stats.collapses;
-        let touched_before = touched.len();
         for (_, q) in small {
             if !w.alive[q as usize] || share(&w, q) >= below {
                 continue;
@@ -98,7 +87,6 @@ pub fn coarsen_to_field(
         if stats.collapses == before {
             break;
         }
-        look_at = w.elements_near(&touched[touched_before..], NEAR_RINGS);
     }
     finish(w, stats, touched)
 }
