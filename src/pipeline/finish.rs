@@ -68,6 +68,10 @@ pub(crate) fn finish_mesh(
         .filter(|g| g.weighted_laplace)
         .map(|g| &g.field);
     smoothing::smooth(&mut mesh, opts.smoothing_passes, bounds, weights);
+    // the nodes round a change smoothed again
+    let smooth_round = |mesh: &mut Mesh, touched: &[u32]| {
+        smoothing::smooth_near(mesh, opts.smoothing_passes / 3, touched, bounds, weights)
+    };
     // a graded mesh coarsened where it is finer than its field asks
     let mut any_collapse = false;
     if let Some(g) = grading.as_ref().filter(|g| g.collapse_below > 0.0) {
@@ -80,13 +84,7 @@ pub(crate) fn finish_mesh(
         );
         stats.coarsened = c.collapses;
         any_collapse = c.collapses > 0;
-        smoothing::smooth_near(
-            &mut mesh,
-            opts.smoothing_passes / 3,
-            &touched,
-            bounds,
-            weights,
-        );
+        smooth_round(&mut mesh, &touched);
     }
     // where smoothing could not reach the bounds: the elements joined
     // up anew and the nodes round the changes smoothed again, a few
@@ -102,13 +100,7 @@ pub(crate) fn finish_mesh(
         if touched.is_empty() {
             break;
         }
-        smoothing::smooth_near(
-            &mut mesh,
-            opts.smoothing_passes / 3,
-            &touched,
-            bounds,
-            weights,
-        );
+        smooth_round(&mut mesh, &touched);
         last_changes = Some(touched);
     }
     // corners still outside the window: their neighbours make room (a node

@@ -41,30 +41,19 @@ pub(crate) fn laplace_sweeps(
             }
             // Eq. 4: the two neighbours of n in each of its elements
             let old = mesh.nodes[n];
-            let target = match weights {
-                None => {
-                    let mut sum = DVec2::ZERO;
-                    for &(q, c) in &around[n] {
-                        let quad = mesh.quads[q as usize];
-                        sum += mesh.nodes[quad[(c as usize + 1) % 4] as usize]
-                            + mesh.nodes[quad[(c as usize + 3) % 4] as usize];
-                    }
-                    sum / (2.0 * around[n].len() as f64)
-                }
-                Some(field) => {
-                    let (mut sum, mut total) = (DVec2::ZERO, 0.0);
-                    for &(q, c) in &around[n] {
-                        let quad = mesh.quads[q as usize];
-                        for k in [1, 3] {
-                            let p = mesh.nodes[quad[(c as usize + k) % 4] as usize];
-                            let w = 1.0 / field.at((old + p) * 0.5);
-                            sum += p * w;
-                            total += w;
-                        }
-                    }
-                    sum / total
-                }
-            };
+            // (plain: every weight 1, each element's pair added first:
+            // the plain mean bit for bit)
+            let weight = |p: DVec2| weights.map_or(1.0, |field| 1.0 / field.at((old + p) * 0.5));
+            let (mut sum, mut total) = (DVec2::ZERO, 0.0);
+            for &(q, c) in &around[n] {
+                let quad = mesh.quads[q as usize];
+                let a = mesh.nodes[quad[(c as usize + 1) % 4] as usize];
+                let b = mesh.nodes[quad[(c as usize + 3) % 4] as usize];
+                let (wa, wb) = (weight(a), weight(b));
+                sum += a * wa + b * wb;
+                total += wa + wb;
+            }
+            let target = sum / total;
             // settled: a move under a thousandth of an element's edge is
             // not worth the checks (and sweeps stop where all are settled)
             let (q0, c0) = around[n][0];
