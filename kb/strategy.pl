@@ -276,6 +276,13 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   jump two nodes hold stays), by a descent on a soft maximum of the
 %   region's corners, size jumps, aspect ratios and tapers, each as a
 %   share of its bound; kept where the worst of them gets better. 0: never.
+% unfold_crowded_corners: 1: where two elements or more share a boundary
+%   corner too sharp for that many (an input corner of 80 degrees split
+%   into two of 40: one is outside the window wherever the nodes go), the
+%   clean-up's flip or collapse that takes one of them away leaves the
+%   other folded over until its free nodes move well away; such a change
+%   is smoothed again from its free nodes' neighbours' mean before it is
+%   judged. 0: it is judged as its local smoothing leaves it.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -330,6 +337,7 @@ bound(closing_strict_margin, 10).
 bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
 bound(polish_rings, 2).
+bound(unfold_crowded_corners, 1).
 bound(coarser_when_over, 1.2).
 bound(blocks_over_free, 1.25).
 bound(uniform_when_graded_short, 1).

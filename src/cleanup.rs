@@ -42,6 +42,7 @@ use crate::element_quality::sine_worst_around_every_corner;
 
 mod changes;
 mod coarsen;
+mod unfold;
 
 pub use coarsen::coarsen_to_field;
 
@@ -401,12 +402,27 @@ fn judge_change<M, K>(
     }
     let saved = w.snapshot(&region);
     let before = measure(w, &region);
+    let crowded = if w.unfold {
+        w.crowded_corners(&c.changed())
+    } else {
+        Vec::new()
+    };
     c.apply(w);
     let nodes = c.nodes(w);
     match c {
         // new nodes start far from where they go
         Change::Add { .. } => w.smooth_sweeps(&nodes, 6),
         _ => w.smooth_locally(&nodes),
+    }
+    // a change that takes an element from a crowded corner, folded over
+    // by the smoothing: smoothed again from the mean of each free node's
+    // neighbours (the other element must move well away)
+    let relieves = crowded
+        .iter()
+        .any(|&(n, count)| w.around[n as usize].len() < count);
+    if relieves && !w.worst_of(&after_region).0.is_finite() {
+        w.place_at_neighbours_mean(&nodes);
+        w.smooth_sweeps(&nodes, 4);
     }
     let good = accept(before, measure(w, &after_region)).map(|k| (k, w.snapshot(&after_region)));
     c.revert(w);
@@ -535,6 +551,43 @@ mod tests {
             (-0.202903, 0.757225),
         ];
         fixed_hexagon(corners, [[0, 1, 2, 5], [2, 3, 4, 5]])
+    }
+
+    /// Two elements sharing the boundary corner at node 0, of `corner`
+    /// degrees, its free node 3 on the bisector.
+    fn two_elements_at_a_corner(corner: f64) -> Mesh {
+        let dir = |deg: f64| DVec2::new(deg.to_radians().cos(), deg.to_radians().sin());
+        let mut m = Mesh::default();
+        let kinds = [
+            NodeKind::Boundary,
+            NodeKind::Boundary,
+            NodeKind::Boundary,
+            NodeKind::Interior,
+            NodeKind::Boundary,
+            NodeKind::Boundary,
+        ];
+        let points = [
+            DVec2::ZERO,
+            2.0 * dir(0.0),
+            2.0 * dir(corner),
+            1.5 * dir(corner / 2.0),
+            2.0 * dir(0.0) + dir(corner / 2.0),
+            2.0 * dir(corner) + dir(corner / 2.0),
+        ];
+        for (p, k) in points.into_iter().zip(kinds) {
+            m.add_node(p, k);
+        }
+        m.quads = vec![[0, 1, 4, 3], [0, 3, 5, 2]];
+        m
+    }
+
+    #[test]
+    fn a_corner_under_twice_the_lower_corner_is_crowded_by_two_elements() {
+        for (corner, crowded) in [(80.0, vec![(0, 2)]), (100.0, vec![])] {
+            let mut m = two_elements_at_a_corner(corner);
+            let w = Working::new(&mut m, ElementBounds::default());
+            assert_eq!(w.crowded_corners(&[0, 1]), crowded, "a corner of {corner}");
+        }
     }
 
     #[test]

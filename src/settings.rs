@@ -82,6 +82,12 @@ pub struct ElementBounds {
     /// clean-up move together to bring it within (0: never; see
     /// smoothing/polish.rs).
     pub polish_rings: f64,
+    /// `unfold_crowded_corners`: 1: the clean-up's flip or collapse that
+    /// takes an element from a crowded boundary corner (two elements or
+    /// more sharing a corner under their count times the lower corner)
+    /// and that its local smoothing leaves folded over is smoothed again
+    /// from its free nodes' neighbours' mean (cleanup.rs); 0: never.
+    pub unfold_crowded_corners: f64,
 }
 
 /// The built-in `bound(boundary_slide, _)` (kb/strategy.pl).
@@ -89,6 +95,9 @@ pub const BOUNDARY_SLIDE: f64 = 0.2;
 
 /// The built-in `bound(polish_rings, _)` (kb/strategy.pl).
 pub const POLISH_RINGS: f64 = 2.0;
+
+/// The built-in `bound(unfold_crowded_corners, _)` (kb/strategy.pl).
+pub const UNFOLD_CROWDED_CORNERS: f64 = 1.0;
 
 impl Default for ElementBounds {
     /// The paper's bounds: corners in [45, 135], aspect ratio and taper
@@ -143,6 +152,7 @@ impl ElementBounds {
             cos2_upper: cos2(upper_corner),
             boundary_slide: BOUNDARY_SLIDE,
             polish_rings: POLISH_RINGS,
+            unfold_crowded_corners: UNFOLD_CROWDED_CORNERS,
         })
     }
 
@@ -156,6 +166,20 @@ impl ElementBounds {
         }
         Ok(ElementBounds {
             polish_rings: rings,
+            ..self
+        })
+    }
+
+    /// These bounds with `bound(unfold_crowded_corners, on)`, or a
+    /// sentence saying it is out of range (0 or 1).
+    pub fn with_unfold_crowded_corners(self, on: f64) -> Result<ElementBounds, String> {
+        if on != 0.0 && on != 1.0 {
+            return Err(format!(
+                "bound(unfold_crowded_corners, {on}) must be 0 or 1"
+            ));
+        }
+        Ok(ElementBounds {
+            unfold_crowded_corners: on,
             ..self
         })
     }

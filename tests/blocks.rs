@@ -683,3 +683,23 @@ fn the_kb_sets_how_long_a_block_layout_may_take() {
     assert_eq!(built_in, vec![42, 54, 84]);
     assert_eq!(sooner, vec![34, 38, 48]);
 }
+
+/// A four-sided domain of 8, 1, 2 and 3 segments (segments 1.1 to 16.8
+/// times the size): its layouts and meshes share corners under 90
+/// degrees between two elements (two corners of 40 or so, outside the
+/// window wherever the nodes go), and the flip or collapse that takes one
+/// away leaves the other folded over where the clean-up's local
+/// smoothing starts from the nodes' places. Smoothed again from the free
+/// nodes' neighbours' mean (`bound(unfold_crowded_corners, 1)`), one of
+/// the retries' block meshes is within the bounds and kept; judged as
+/// folded (`tests/kb/no-unfold-crowded-corners.pl`), none is, and the
+/// mesh kept has corners of 41.9 degrees.
+#[test]
+fn crowded_corners_unfolded_bring_a_four_sided_domain_within_the_bounds() {
+    let d = load("tests/counts/four-sided-8-1-2-3.json");
+    let unfolded = uniform_run(&d, &[]);
+    within_the_bounds_below(&unfolded, "8-1-2-3", 45.0);
+    let folded = uniform_run(&d, &["tests/kb/no-unfold-crowded-corners.pl"]);
+    let q = &folded.quality;
+    assert!(q.min_angle < 44.5, "judged as folded: {q:?}");
+}

@@ -670,12 +670,14 @@ fn a_free_mesh_out_of_bounds_is_meshed_again_in_blocks_and_the_better_kept() {
     let opts = Options::default().with_trace(true);
     // (unpolished: polishing brings seed 777's free mesh within)
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
-    // (the band off, as when these seeds were chosen: with it, 777's
-    // free mesh is within the bounds)
+    // (the band off and crowded corners judged folded, as when these
+    // seeds were chosen: with the band, 777's free mesh is within the
+    // bounds; with crowded corners unfolded, 151's)
     for f in [
         "tests/kb/free-first.pl",
         "tests/kb/no-polish.pl",
         "tests/kb/band-off.pl",
+        "tests/kb/no-unfold-crowded-corners.pl",
     ] {
         kb.consult_file(f).expect("the file loads");
     }
@@ -684,6 +686,7 @@ fn a_free_mesh_out_of_bounds_is_meshed_again_in_blocks_and_the_better_kept() {
         "tests/kb/no-blocks-when-out-of-bounds.pl",
         "tests/kb/no-polish.pl",
         "tests/kb/band-off.pl",
+        "tests/kb/no-unfold-crowded-corners.pl",
     ] {
         off.consult_file(f).expect("the file loads");
     }
@@ -791,9 +794,12 @@ fn a_domain_without_fixed_counts_is_retried_by_the_variants_it_may_take() {
         // the retries alone: no coarser mesh tried after them
         kb.consult_file("tests/kb/no-coarser.pl")
             .expect("consulted");
-        // (the band off, as when the seed was chosen: with it, the first
-        // run is within the bounds)
+        // (the band off and crowded corners judged folded, as when the
+        // seed was chosen: with either, the first run is within the
+        // bounds)
         kb.consult_file("tests/kb/band-off.pl").expect("consulted");
+        kb.consult_file("tests/kb/no-unfold-crowded-corners.pl")
+            .expect("consulted");
         let domain = Domain::from_json(&generate(seed)).expect("a valid domain");
         let free = mesh_domain(&domain, &mut kb, &opts, &mut |_| {}).expect("meshed");
         // out of the bounds as the program counts them: a corner past
@@ -896,13 +902,30 @@ fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
 /// followed the edges' lengths) the blocks split an 83-degree corner into
 /// two of 41.5, and the count of elements outside the bounds that picks
 /// the mesh has them (it once took them for a sharp input corner taken
-/// whole, and kept the mesh as within).
+/// whole, and kept the mesh as within). Crowded corners are judged as
+/// folded here (`tests/kb/no-unfold-crowded-corners.pl`): unfolded, the
+/// clean-up gives that corner one element and the layout's mesh is
+/// within the bounds (below).
 #[test]
 fn a_split_input_corner_under_the_window_counts_as_outside() {
     let text = std::fs::read_to_string("tests/bounds/split-corner-mapped.json").expect("the file");
     let domain = Domain::from_json(&serde_json::from_str(&text).expect("JSON")).expect("valid");
     let opts = Options::default().with_trace(true);
+    let mut unfolded = KnowledgeBase::builtin().expect("the built-in KB loads");
+    let u =
+        mesh_free_then_blocks(&domain, None, &mut unfolded, &opts, &mut |_| {}).expect("meshed");
+    assert!(
+        u.trace[0]
+            .redesign
+            .iter()
+            .any(|t| t.starts_with("blocks of 2 element sizes: 0 elements out of bounds")),
+        "{:?}",
+        u.trace[0].redesign
+    );
+    assert!(within_bounds(&u.quality, 45.0), "{:?}", u.quality);
     let mut kb = KnowledgeBase::builtin().expect("the built-in KB loads");
+    kb.consult_file("tests/kb/no-unfold-crowded-corners.pl")
+        .expect("consulted");
     let r = mesh_free_then_blocks(&domain, None, &mut kb, &opts, &mut |_| {}).expect("meshed");
     let said = &r.trace[0].redesign;
     let layout = said

@@ -45,6 +45,11 @@ pub(crate) struct Working<'m> {
     pub(crate) constrained: rustc_hash::FxHashSet<(u32, u32)>,
     /// The corners, shapes and sizes aimed for.
     pub(crate) bounds: ElementBounds,
+    /// Whether a change that takes an element from a crowded corner
+    /// (`crowded_corners`) and that its smoothing leaves folded over is
+    /// smoothed again from its free nodes' neighbours' mean
+    /// (`bound(unfold_crowded_corners, 1)`).
+    pub(crate) unfold: bool,
 }
 
 impl Working<'_> {
@@ -715,6 +720,7 @@ impl<'m> Working<'m> {
             alive,
             constrained,
             bounds,
+            unfold: bounds.unfold_crowded_corners >= 1.0,
         };
         w.index();
         w

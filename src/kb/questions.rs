@@ -29,6 +29,7 @@ impl KnowledgeBase {
         let rounds = self.bound("redesign_rounds")?;
         let slide = self.bound("boundary_slide")?;
         let polish = self.bound("polish_rings")?;
+        let unfold = self.bound("unfold_crowded_corners")?;
         let element = ElementBounds::new(
             self.bound("lower_corner")?,
             self.bound("upper_corner")?,
@@ -38,6 +39,7 @@ impl KnowledgeBase {
         )
         .and_then(|e| e.with_boundary_slide(slide))
         .and_then(|e| e.with_polish_rings(polish))
+        .and_then(|e| e.with_unfold_crowded_corners(unfold))
         .map_err(|why| KbError::Answer {
             query: "bound/2".into(),
             answer: why,
