@@ -283,6 +283,11 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   other folded over until its free nodes move well away; such a change
 %   is smoothed again from its free nodes' neighbours' mean before it is
 %   judged. 0: it is judged as its local smoothing leaves it.
+% split_into_four: 1: where a lone element spans two edges of a tight arc
+%   (a boundary node bent more than the window allows, with one element),
+%   the clean-up may split it and its neighbour into four elements round
+%   two new nodes, giving that node a second element and taking none from
+%   its neighbours along the arc (no split into three can). 0: never.
 %
 % ?- bound(lower_corner, L).
 %    L = 45.
@@ -338,6 +343,7 @@ bound(closing_strict_size, 1.6).
 bound(boundary_slide, 0.2).
 bound(polish_rings, 2).
 bound(unfold_crowded_corners, 1).
+bound(split_into_four, 1).
 bound(coarser_when_over, 1.2).
 bound(blocks_over_free, 1.25).
 bound(uniform_when_graded_short, 1).

@@ -20,7 +20,11 @@
 //!   bent more than the window allows (on a tight arc, where a row ended)
 //!   keeps that corner whatever the smoothing does, and no flip or
 //!   collapse gives the node a second element without taking one from the
-//!   next node along the boundary.
+//!   next node along the boundary. Where a lone element spans two edges
+//!   of a tight arc, its node between them gets a second element from a
+//!   split of the hexagon into four round two new nodes (no split into
+//!   three gives it one without taking one from a neighbour along the
+//!   arc): see `hexagon.rs`.
 //!
 //! Each element with a corner outside the window, worst first, is tried
 //! with every flip of its edges and every collapse; the region round each
@@ -42,6 +46,7 @@ use crate::element_quality::sine_worst_around_every_corner;
 
 mod changes;
 mod coarsen;
+mod hexagon;
 mod unfold;
 
 pub use coarsen::coarsen_to_field;
@@ -553,6 +558,26 @@ mod tests {
         fixed_hexagon(corners, [[0, 1, 2, 5], [2, 3, 4, 5]])
     }
 
+    /// A hexagon of fixed nodes and unit sides, corners of 80 degrees at
+    /// nodes 0 and 3 and of 140 at the others, split into two elements
+    /// along its diagonal 2-5: nodes 1 and 4 have one element each and a
+    /// corner of 140 there (a lone element spanning two edges of a tight
+    /// arc). A flip gives them a second but takes one from nodes 2 and 5
+    /// (140 again there); a split into three gives only one of 1 and 4
+    /// a second.
+    fn hexagon_with_two_lone_bent_corners() -> Mesh {
+        let (c, s) = (40f64.to_radians().cos(), 40f64.to_radians().sin());
+        let corners = [
+            (0.0, 0.0),
+            (c, -s),
+            (c + 1.0, -s),
+            (2.0 * c + 1.0, 0.0),
+            (c + 1.0, s),
+            (c, s),
+        ];
+        fixed_hexagon(corners, [[0, 1, 2, 5], [2, 3, 4, 5]])
+    }
+
     /// Two elements sharing the boundary corner at node 0, of `corner`
     /// degrees, its free node 3 on the bisector.
     fn two_elements_at_a_corner(corner: f64) -> Mesh {
@@ -606,6 +631,29 @@ mod tests {
         assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
         assert!((m.area() - area).abs() < 1e-9);
         crate::report::check::check_mesh(&m, area).unwrap();
+    }
+
+    #[test]
+    fn two_lone_elements_at_bent_boundary_nodes_get_neighbours_by_a_split_into_four() {
+        let mut m = hexagon_with_two_lone_bent_corners();
+        let area = m.area();
+        assert!(worst_corner(&m) >= 4.9, "{}", worst_corner(&m));
+        let (stats, _) = clean_up(&mut m, None, &ElementBounds::default());
+        assert_eq!((stats.flips, stats.collapses, stats.splits), (0, 0, 1));
+        assert_eq!((m.quads.len(), m.nodes.len()), (4, 8));
+        // nodes 1, 2, 4 and 5 have two elements each, the new nodes three
+        let at = |n: u32| m.quads.iter().filter(|q| q.contains(&n)).count();
+        let counts: Vec<usize> = (0..8).map(at).collect();
+        assert_eq!(counts, [1, 2, 2, 1, 2, 2, 3, 3]);
+        assert!(worst_corner(&m) <= 0.0, "{}", worst_corner(&m));
+        assert!((m.area() - area).abs() < 1e-9);
+        crate::report::check::check_mesh(&m, area).unwrap();
+        // never with bound(split_into_four, 0): the corner of 140 stays
+        let mut m = hexagon_with_two_lone_bent_corners();
+        let never = ElementBounds::default().with_split_into_four(0.0).unwrap();
+        let (stats, _) = clean_up(&mut m, None, &never);
+        assert_eq!((stats.splits, m.quads.len()), (0, 2));
+        assert!(worst_corner(&m) >= 4.9, "{}", worst_corner(&m));
     }
 
     #[test]

@@ -88,6 +88,10 @@ pub struct ElementBounds {
     /// and that its local smoothing leaves folded over is smoothed again
     /// from its free nodes' neighbours' mean (cleanup.rs); 0: never.
     pub unfold_crowded_corners: f64,
+    /// `split_into_four`: 1: the clean-up may split a lone element spanning
+    /// two edges of a tight arc and its neighbour into four round two new
+    /// nodes (cleanup/hexagon.rs); 0: never.
+    pub split_into_four: f64,
 }
 
 /// The built-in `bound(boundary_slide, _)` (kb/strategy.pl).
@@ -98,6 +102,9 @@ pub const POLISH_RINGS: f64 = 2.0;
 
 /// The built-in `bound(unfold_crowded_corners, _)` (kb/strategy.pl).
 pub const UNFOLD_CROWDED_CORNERS: f64 = 1.0;
+
+/// The built-in `bound(split_into_four, _)` (kb/strategy.pl).
+pub const SPLIT_INTO_FOUR: f64 = 1.0;
 
 impl Default for ElementBounds {
     /// The paper's bounds: corners in [45, 135], aspect ratio and taper
@@ -153,6 +160,7 @@ impl ElementBounds {
             boundary_slide: BOUNDARY_SLIDE,
             polish_rings: POLISH_RINGS,
             unfold_crowded_corners: UNFOLD_CROWDED_CORNERS,
+            split_into_four: SPLIT_INTO_FOUR,
         })
     }
 
@@ -180,6 +188,18 @@ impl ElementBounds {
         }
         Ok(ElementBounds {
             unfold_crowded_corners: on,
+            ..self
+        })
+    }
+
+    /// These bounds with `bound(split_into_four, on)`, or a sentence
+    /// saying it is out of range (0 or 1).
+    pub fn with_split_into_four(self, on: f64) -> Result<ElementBounds, String> {
+        if on != 0.0 && on != 1.0 {
+            return Err(format!("bound(split_into_four, {on}) must be 0 or 1"));
+        }
+        Ok(ElementBounds {
+            split_into_four: on,
             ..self
         })
     }

@@ -703,3 +703,20 @@ fn crowded_corners_unfolded_bring_a_four_sided_domain_within_the_bounds() {
     let q = &folded.quality;
     assert!(q.min_angle < 44.5, "judged as folded: {q:?}");
 }
+
+/// A slot (two half-disc ends of six segments, corners of 150 degrees
+/// between them) with three small holes: a lone element spans two edges
+/// of an end arc, its node between them bent past the window with one
+/// element, the nodes either side with two each. Split with its
+/// neighbour into four round two new nodes
+/// (`bound(split_into_four, 1)`), that node gets a second element and the
+/// mesh is within the bounds; without (`tests/kb/no-split-into-four.pl`)
+/// the corner stays past 135 degrees.
+#[test]
+fn a_lone_element_on_a_slot_end_arc_is_split_into_four() {
+    let d = load("tests/bounds/slot-end-arcs.json");
+    within_the_bounds_below(&uniform_run(&d, &[]), "slot-end-arcs", 45.0);
+    let unsplit = uniform_run(&d, &["tests/kb/no-split-into-four.pl"]);
+    let q = &unsplit.quality;
+    assert!(q.max_angle > 135.5, "without the split into four: {q:?}");
+}

@@ -24,9 +24,11 @@ pub enum Op {
     Merge,
     /// Split the hexagon of the element and its neighbour across edge
     /// `k` into three round a new node in its middle (one variant of
-    /// two): where a node of the hexagon has one element too few (a
-    /// lone element at a boundary node bent more than the window
-    /// allows), the new node gives it a second.
+    /// two), or into four round two new nodes (one of six: two opposite
+    /// nodes of the hexagon get an element more each): where a node of
+    /// the hexagon has one element too few (a lone element at a boundary
+    /// node bent more than the window allows), a new node gives it a
+    /// second.
     Split(u8),
 }
 
@@ -232,66 +234,6 @@ impl Working<'_> {
                 .find(|&j| oq[j] == b && oq[(j + 1) % 4] == a)
                 .map(|j| (o, j))
         })
-    }
-
-    /// The hexagon of q and the element across its edge k,
-    /// counter-clockwise from v round q to u, round o (the edge k is u-v),
-    /// with o; None on a constrained edge or where the two share more
-    /// than the edge.
-    fn hexagon(&self, q: u32, k: usize) -> Option<(u32, [u32; 6])> {
-        let quad = self.mesh.quads[q as usize];
-        let (u, v) = (quad[k], quad[(k + 1) % 4]);
-        if !self.edge_free(u, v) {
-            return None;
-        }
-        let (o, j) = self.across(q, k)?;
-        let oq = self.mesh.quads[o as usize];
-        let h = [
-            v,
-            quad[(k + 2) % 4],
-            quad[(k + 3) % 4],
-            u,
-            oq[(j + 2) % 4],
-            oq[(j + 3) % 4],
-        ];
-        let mut seen = h.to_vec();
-        seen.sort_unstable();
-        seen.dedup();
-        (seen.len() == 6).then_some((o, h))
-    }
-
-    /// The two splits of the hexagon of q and the element across its
-    /// edge k into three elements round a new node at the hexagon's
-    /// centre: (o, the new node's place, the three elements) each, the
-    /// new node numbered next.
-    pub(crate) fn splits(&self, q: u32, k: usize) -> Option<HexagonSplits> {
-        let (o, h) = self.hexagon(q, k)?;
-        let m = self.mesh.nodes.len() as u32;
-        let centre = h
-            .iter()
-            .map(|&n| self.mesh.nodes[n as usize])
-            .fold(DVec2::ZERO, |a, p| a + p)
-            / 6.0;
-        let split = |d: usize| {
-            let i = |x: usize| h[(d + x) % 6];
-            [
-                [i(0), i(1), i(2), m],
-                [i(2), i(3), i(4), m],
-                [i(4), i(5), i(0), m],
-            ]
-        };
-        Some((o, centre, [split(0), split(1)]))
-    }
-
-    /// The two other splits of the hexagon of q and the element across
-    /// its edge k: (q's new nodes, the other's new nodes) each.
-    pub(crate) fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
-        let (o, h) = self.hexagon(q, k)?;
-        let split = |d: usize| {
-            let i = |x: usize| h[(d + x) % 6];
-            [[i(0), i(1), i(2), i(3)], [i(3), i(4), i(5), i(0)]]
-        };
-        Some((o, [split(1), split(2)]))
     }
 
     /// Element q without corner k, joined onto corner k+2: the elements
@@ -657,21 +599,25 @@ pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
             }],
             None => Vec::new(),
         },
-        Op::Split(k) => match w.splits(q, k as usize) {
-            Some((o, at, splits)) => splits
-                .into_iter()
-                .map(|new| Change::Add {
-                    changed: vec![
-                        (q, w.mesh.quads[q as usize], new[0]),
-                        (o, w.mesh.quads[o as usize], new[1]),
-                    ],
-                    added: vec![new[2]],
-                    first: w.mesh.quads.len() as u32,
-                    at: vec![at],
-                })
-                .collect(),
-            None => Vec::new(),
-        },
+        Op::Split(k) => {
+            let mut out = Vec::new();
+            let add = |o: u32, new: &[[u32; 4]], at: Vec<DVec2>| Change::Add {
+                changed: vec![
+                    (q, w.mesh.quads[q as usize], new[0]),
+                    (o, w.mesh.quads[o as usize], new[1]),
+                ],
+                added: new[2..].to_vec(),
+                first: w.mesh.quads.len() as u32,
+                at,
+            };
+            if let Some((o, at, splits)) = w.splits(q, k as usize) {
+                out.extend(splits.iter().map(|new| add(o, new, vec![at])));
+            }
+            if let Some((o, splits)) = w.splits_into_four(q, k as usize) {
+                out.extend(splits.iter().map(|(new, at)| add(o, new, at.to_vec())));
+            }
+            out
+        }
         Op::Merge => {
             let mut out = Vec::new();
             for (qs, lp) in w.patches_of(q) {

@@ -30,6 +30,7 @@ impl KnowledgeBase {
         let slide = self.bound("boundary_slide")?;
         let polish = self.bound("polish_rings")?;
         let unfold = self.bound("unfold_crowded_corners")?;
+        let four = self.bound("split_into_four")?;
         let element = ElementBounds::new(
             self.bound("lower_corner")?,
             self.bound("upper_corner")?,
@@ -40,6 +41,7 @@ impl KnowledgeBase {
         .and_then(|e| e.with_boundary_slide(slide))
         .and_then(|e| e.with_polish_rings(polish))
         .and_then(|e| e.with_unfold_crowded_corners(unfold))
+        .and_then(|e| e.with_split_into_four(four))
         .map_err(|why| KbError::Answer {
             query: "bound/2".into(),
             answer: why,
