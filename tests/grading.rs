@@ -208,6 +208,10 @@ fn kb_with(file: &str) -> KnowledgeBase {
 
 /// The KB with the graded runs' bounds at bound/2's: the stars of
 /// tests/graded were drawn where those graded meshes fell short.
+/// The clean-up never splits two elements into four (`split_into_four`
+/// 0): for scenarios chosen before it could.
+const NO_FOUR: &str = "tests/kb/no-split-into-four.pl";
+
 const AS_BOUND: &str = "tests/kb/graded-bounds-as-bound.pl";
 const AS_BOUND_WORDS: &str =
     "graded by a max_size: bound(row_growth, 1.5), bound(coarsen_ratio, 1.5), bound(graded_collapse_below, 0) in place (graded_bound/2)";
@@ -531,10 +535,12 @@ fn a_fixed_count_coarser_than_the_size_is_refined_by_the_rules() {
 /// keeps a variant to uniform runs: with the three that move a design
 /// threshold so, the one kept to graded runs (`gentler_grading`,
 /// `retry_needs(V, graded)`) is tried alone, and is within the bounds.
+/// (The clean-up's split into four off, as when the domain was chosen:
+/// with it, `no_sharp_front_corners` is within the bounds already.)
 #[test]
 fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
     let d = load("tests/graded/star-retried.json");
-    let r = traced_run(&mut kb_with(AS_BOUND), &d);
+    let r = traced_run(&mut kb_with_all(&[AS_BOUND, NO_FOUR]), &d);
     within_the_bounds(&r, "graded star");
     let told = &r.trace[0].redesign[1..];
     assert_eq!(r.trace[0].redesign[0], AS_BOUND_WORDS);
@@ -553,7 +559,7 @@ fn a_graded_mesh_that_falls_short_is_retried_free_with_the_kbs_variants() {
 
     // the three retries that moved a threshold kept to uniform runs,
     // the graded one alone is tried (retry_needs(gentler_grading, graded))
-    let mut uniform_only = kb_with_all(&[AS_BOUND, "tests/kb/uniform-retries-only.pl"]);
+    let mut uniform_only = kb_with_all(&[AS_BOUND, "tests/kb/uniform-retries-only.pl", NO_FOUR]);
     let r = traced_run(&mut uniform_only, &d);
     within_the_bounds(&r, "graded star, gentler grading");
     let told = &r.trace[0].redesign[1..];
@@ -584,11 +590,17 @@ fn kept_without_max_size(kb: &mut KnowledgeBase, d: &Domain, name: &str) -> Mesh
 /// star of the random families (seed 1093, `max_size` six times its
 /// size) whose graded meshes all have one element out, where its blocks
 /// have none and one irregular node. With the bound at 0 the graded mesh
-/// is kept, short as it is.
+/// is kept, short as it is. (The clean-up's split into four off, as when
+/// the domain was chosen: with it, the first graded mesh is within the
+/// bounds.)
 #[test]
 fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
     let d = load("tests/graded/star-uniform.json");
-    let r = kept_without_max_size(&mut kb_with(AS_BOUND), &d, "star without max_size");
+    let r = kept_without_max_size(
+        &mut kb_with_all(&[AS_BOUND, NO_FOUR]),
+        &d,
+        "star without max_size",
+    );
     let told = &r.trace[0].redesign;
     let at = told
         .iter()
@@ -607,7 +619,11 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
         "{told:?}"
     );
 
-    let mut graded_only = kb_with_all(&[AS_BOUND, "tests/kb/no-uniform-when-graded-short.pl"]);
+    let mut graded_only = kb_with_all(&[
+        AS_BOUND,
+        "tests/kb/no-uniform-when-graded-short.pl",
+        NO_FOUR,
+    ]);
     let g = traced_run(&mut graded_only, &d);
     assert!(!is_within(&g), "{:?}", g.quality);
     assert_eq!(g.trace[0].action, "free");
@@ -630,7 +646,9 @@ fn a_graded_mesh_short_after_its_retries_gives_way_to_one_without_max_size() {
 /// made them, not coarsened to their size field: coarsened, a retry's
 /// mesh is nearer the bounds and kept; and crowded corners judged as
 /// their local smoothing leaves them, as when the domain was chosen:
-/// unfolded, the mesh without max_size has a size jump of 2.15.)
+/// unfolded, the mesh without max_size has a size jump of 2.15; and the
+/// clean-up's split into four off: with it, a retry's blocks are within
+/// the bounds even without the slack.)
 #[test]
 fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
     let d = load("tests/graded/mapped-corner-slack.json");
@@ -638,7 +656,7 @@ fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
     const FOLDED: &str = "tests/kb/no-unfold-crowded-corners.pl";
     // unpolished: polishing brings the 44.9 deg corner within the window
     let r = kept_without_max_size(
-        &mut kb_with_all(&["tests/kb/no-polish.pl", NO_COLLAPSE, FOLDED]),
+        &mut kb_with_all(&["tests/kb/no-polish.pl", NO_COLLAPSE, FOLDED, NO_FOUR]),
         &d,
         "mapped, corner slack",
     );
@@ -654,6 +672,7 @@ fn a_corner_within_the_slack_lets_the_mesh_without_max_size_be_kept() {
             "tests/kb/no-polish.pl",
             NO_COLLAPSE,
             FOLDED,
+            NO_FOUR,
         ]),
         &d,
     );
