@@ -905,18 +905,15 @@ fn a_domain_with_a_spike_too_sharp_for_the_bounds_is_not_retried() {
 /// whole, and kept the mesh as within). Crowded corners are judged as
 /// folded here (`tests/kb/no-unfold-crowded-corners.pl`): unfolded, the
 /// clean-up gives that corner one element and the layout's mesh is
-/// within the bounds (below). Both runs without the clean-up's split into
-/// four (`tests/kb/no-split-into-four.pl`): with it, the first run is
-/// within the bounds and no layout of 2 sizes is tried.
+/// within the bounds (below). The folded run is without the clean-up's
+/// split into four too (`tests/kb/no-split-into-four.pl`): with it, that
+/// layout's mesh is within the bounds, folded as it is.
 #[test]
 fn a_split_input_corner_under_the_window_counts_as_outside() {
     let text = std::fs::read_to_string("tests/bounds/split-corner-mapped.json").expect("the file");
     let domain = Domain::from_json(&serde_json::from_str(&text).expect("JSON")).expect("valid");
     let opts = Options::default().with_trace(true);
     let mut unfolded = KnowledgeBase::builtin().expect("the built-in KB loads");
-    unfolded
-        .consult_file("tests/kb/no-split-into-four.pl")
-        .expect("consulted");
     let u =
         mesh_free_then_blocks(&domain, None, &mut unfolded, &opts, &mut |_| {}).expect("meshed");
     assert!(
