@@ -407,7 +407,8 @@ fn judge_change<M, K>(
     }
     let saved = w.snapshot(&region);
     let before = measure(w, &region);
-    let crowded = if w.unfold {
+    // (`bound(unfold_crowded_corners, 1)`)
+    let crowded = if w.bounds.unfold_crowded_corners >= 1.0 {
         w.crowded_corners(&c.changed())
     } else {
         Vec::new()

@@ -100,6 +100,15 @@ pub const BOUNDARY_SLIDE: f64 = 0.2;
 /// The built-in `bound(polish_rings, _)` (kb/strategy.pl).
 pub const POLISH_RINGS: f64 = 2.0;
 
+/// A switch's value, 0 or 1, or a sentence saying it is neither.
+fn on_or_off(name: &str, on: f64) -> Result<(), String> {
+    if on == 0.0 || on == 1.0 {
+        Ok(())
+    } else {
+        Err(format!("bound({name}, {on}) must be 0 or 1"))
+    }
+}
+
 /// The built-in `bound(unfold_crowded_corners, _)` (kb/strategy.pl).
 pub const UNFOLD_CROWDED_CORNERS: f64 = 1.0;
 
@@ -181,11 +190,7 @@ impl ElementBounds {
     /// These bounds with `bound(unfold_crowded_corners, on)`, or a
     /// sentence saying it is out of range (0 or 1).
     pub fn with_unfold_crowded_corners(self, on: f64) -> Result<ElementBounds, String> {
-        if on != 0.0 && on != 1.0 {
-            return Err(format!(
-                "bound(unfold_crowded_corners, {on}) must be 0 or 1"
-            ));
-        }
+        on_or_off("unfold_crowded_corners", on)?;
         Ok(ElementBounds {
             unfold_crowded_corners: on,
             ..self
@@ -195,9 +200,7 @@ impl ElementBounds {
     /// These bounds with `bound(split_into_four, on)`, or a sentence
     /// saying it is out of range (0 or 1).
     pub fn with_split_into_four(self, on: f64) -> Result<ElementBounds, String> {
-        if on != 0.0 && on != 1.0 {
-            return Err(format!("bound(split_into_four, {on}) must be 0 or 1"));
-        }
+        on_or_off("split_into_four", on)?;
         Ok(ElementBounds {
             split_into_four: on,
             ..self

@@ -34,10 +34,6 @@ pub enum Op {
 
 pub(crate) type Worst = (f64, f64);
 
-/// The neighbour, the new middle node's place and the two splits of a
-/// hexagon into three elements.
-pub(crate) type HexagonSplits = (u32, DVec2, [[[u32; 4]; 3]; 2]);
-
 /// The mesh with each node's elements, kept up to date through the
 /// operations; removed elements are left as holes until `finish`.
 pub(crate) struct Working<'m> {
@@ -47,11 +43,6 @@ pub(crate) struct Working<'m> {
     pub(crate) constrained: rustc_hash::FxHashSet<(u32, u32)>,
     /// The corners, shapes and sizes aimed for.
     pub(crate) bounds: ElementBounds,
-    /// Whether a change that takes an element from a crowded corner
-    /// (`crowded_corners`) and that its smoothing leaves folded over is
-    /// smoothed again from its free nodes' neighbours' mean
-    /// (`bound(unfold_crowded_corners, 1)`).
-    pub(crate) unfold: bool,
 }
 
 impl Working<'_> {
@@ -599,25 +590,21 @@ pub(crate) fn changes(w: &Working, q: u32, op: Op) -> Vec<Change> {
             }],
             None => Vec::new(),
         },
-        Op::Split(k) => {
-            let mut out = Vec::new();
-            let add = |o: u32, new: &[[u32; 4]], at: Vec<DVec2>| Change::Add {
-                changed: vec![
-                    (q, w.mesh.quads[q as usize], new[0]),
-                    (o, w.mesh.quads[o as usize], new[1]),
-                ],
-                added: new[2..].to_vec(),
-                first: w.mesh.quads.len() as u32,
-                at,
-            };
-            if let Some((o, at, splits)) = w.splits(q, k as usize) {
-                out.extend(splits.iter().map(|new| add(o, new, vec![at])));
-            }
-            if let Some((o, splits)) = w.splits_into_four(q, k as usize) {
-                out.extend(splits.iter().map(|(new, at)| add(o, new, at.to_vec())));
-            }
-            out
-        }
+        Op::Split(k) => match w.splits(q, k as usize) {
+            Some((o, splits)) => splits
+                .into_iter()
+                .map(|(new, at)| Change::Add {
+                    changed: vec![
+                        (q, w.mesh.quads[q as usize], new[0]),
+                        (o, w.mesh.quads[o as usize], new[1]),
+                    ],
+                    added: new[2..].to_vec(),
+                    first: w.mesh.quads.len() as u32,
+                    at,
+                })
+                .collect(),
+            None => Vec::new(),
+        },
         Op::Merge => {
             let mut out = Vec::new();
             for (qs, lp) in w.patches_of(q) {
@@ -666,7 +653,6 @@ impl<'m> Working<'m> {
             alive,
             constrained,
             bounds,
-            unfold: bounds.unfold_crowded_corners >= 1.0,
         };
         w.index();
         w

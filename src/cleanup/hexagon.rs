@@ -8,7 +8,7 @@
 
 use glam::DVec2;
 
-use super::changes::{HexagonSplits, Working};
+use super::changes::Working;
 use crate::mesh::NodeKind;
 
 impl Working<'_> {
@@ -38,29 +38,6 @@ impl Working<'_> {
         (seen.len() == 6).then_some((o, h))
     }
 
-    /// The two splits of the hexagon of q and the element across its
-    /// edge k into three elements round a new node at the hexagon's
-    /// centre: (o, the new node's place, the three elements) each, the
-    /// new node numbered next.
-    pub(crate) fn splits(&self, q: u32, k: usize) -> Option<HexagonSplits> {
-        let (o, h) = self.hexagon(q, k)?;
-        let m = self.mesh.nodes.len() as u32;
-        let centre = h
-            .iter()
-            .map(|&n| self.mesh.nodes[n as usize])
-            .fold(DVec2::ZERO, |a, p| a + p)
-            / 6.0;
-        let split = |d: usize| {
-            let i = |x: usize| h[(d + x) % 6];
-            [
-                [i(0), i(1), i(2), m],
-                [i(2), i(3), i(4), m],
-                [i(4), i(5), i(0), m],
-            ]
-        };
-        Some((o, centre, [split(0), split(1)]))
-    }
-
     /// The two other splits of the hexagon of q and the element across
     /// its edge k: (q's new nodes, the other's new nodes) each.
     pub(crate) fn flips(&self, q: u32, k: usize) -> Option<(u32, [[[u32; 4]; 2]; 2])> {
@@ -72,43 +49,53 @@ impl Working<'_> {
         Some((o, [split(1), split(2)]))
     }
 
-    /// The six splits of the hexagon of q and the element across its edge
-    /// k into four elements round two new nodes (numbered next): (o, each
-    /// split's four elements and its two nodes' places). Hexagon
-    /// [a, b, c, d, e, f] in turn from each node gives [a, b, m, f],
-    /// [b, c, n, m], [c, d, e, n] and [n, e, f, m]: b and e get an
-    /// element more, every other node keeps its count. Only those that
-    /// give a lone element's boundary node a second (elsewhere the split
-    /// into three or a flip does as well with fewer elements). None with
-    /// `bound(split_into_four, 0)`.
-    pub(crate) fn splits_into_four(&self, q: u32, k: usize) -> Option<(u32, Vec<FourSplit>)> {
-        if self.bounds.split_into_four < 1.0 {
-            return None;
-        }
+    /// The splits of the hexagon of q and the element across its edge k,
+    /// each as its elements and its new nodes' places (the new nodes
+    /// numbered next), with o. First the two into three round a new node
+    /// at the hexagon's centre; then, with `bound(split_into_four, 1)`,
+    /// those into four round two new nodes: hexagon [a, b, c, d, e, f]
+    /// in turn from each node gives [a, b, m, f], [b, c, n, m],
+    /// [c, d, e, n] and [n, e, f, m], so b and e get an element more and
+    /// every other node keeps its count; only those that give a lone
+    /// element's boundary node a second (elsewhere the split into three
+    /// or a flip does as well with fewer elements).
+    pub(crate) fn splits(&self, q: u32, k: usize) -> Option<(u32, Vec<HexagonSplit>)> {
         let (o, h) = self.hexagon(q, k)?;
         let m = self.mesh.nodes.len() as u32;
         let n = m + 1;
         let at = |x: u32| self.mesh.nodes[x as usize];
         let centre = h.iter().map(|&x| at(x)).fold(DVec2::ZERO, |s, p| s + p) / 6.0;
-        let split = |r: usize| {
+        let into_three = |d: usize| {
+            let i = |x: usize| h[(d + x) % 6];
+            let quads = vec![
+                [i(0), i(1), i(2), m],
+                [i(2), i(3), i(4), m],
+                [i(4), i(5), i(0), m],
+            ];
+            (quads, vec![centre])
+        };
+        let into_four = |r: usize| {
             let [a, b, c, d, e, f] = std::array::from_fn(|x| h[(r + x) % 6]);
             // each new node two thirds of the way from the centre to
             // the middle of the two hexagon nodes it joins: every
             // element convex on a regular hexagon
-            let places = [
+            let places = vec![
                 (at(b) + at(f) + centre) / 3.0,
                 (at(c) + at(e) + centre) / 3.0,
             ];
-            let quads = [[a, b, m, f], [b, c, n, m], [c, d, e, n], [n, e, f, m]];
+            let quads = vec![[a, b, m, f], [b, c, n, m], [c, d, e, n], [n, e, f, m]];
             (quads, places)
         };
         let lone = |x: u32| {
             self.mesh.kinds[x as usize] != NodeKind::Interior && self.around[x as usize].len() == 1
         };
-        let wanted = (0..6).filter(|&r| lone(h[(r + 1) % 6]) || lone(h[(r + 4) % 6]));
-        Some((o, wanted.map(split).collect()))
+        let four = self.bounds.split_into_four >= 1.0;
+        let wanted = (0..6).filter(|&r| four && (lone(h[(r + 1) % 6]) || lone(h[(r + 4) % 6])));
+        let splits = (0..2).map(into_three).chain(wanted.map(into_four));
+        Some((o, splits.collect()))
     }
 }
 
-/// A split of a hexagon into four elements and its two new nodes' places.
-pub(crate) type FourSplit = ([[u32; 4]; 4], [DVec2; 2]);
+/// A split of a hexagon: its elements (the first two in place of the
+/// hexagon's two) and its new nodes' places.
+pub(crate) type HexagonSplit = (Vec<[u32; 4]>, Vec<DVec2>);
