@@ -61,20 +61,28 @@ pub(crate) fn laplace_sweeps(
             if (target - old).length_squared() <= 1e-6 * edge.length_squared() {
                 continue;
             }
-            let before = around[n]
-                .iter()
-                .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
-                .fold(0.0, f64::max);
-            // try the full move, then half of it
-            for t in [1.0, 0.5] {
-                mesh.nodes[n] = old + (target - old) * t;
-                let after = around[n]
+            let worst = |mesh: &Mesh| {
+                around[n]
                     .iter()
                     .map(|&(q, _)| badness_of(mesh, q as usize, bounds))
-                    .fold(0.0, f64::max);
-                if after.is_finite()
-                    && after <= before.max(0.0) + 1e-9
-                    && shapes_allowed(mesh, n, old, &around[n], bounds)
+                    .fold(0.0, f64::max)
+            };
+            // the elements' worst before the move, measured only for a
+            // move that leaves a corner outside the window (most leave
+            // none, and pass whatever it was)
+            let mut before: Option<f64> = None;
+            // try the full move, then half of it
+            for t in [1.0, 0.5] {
+                let moved = old + (target - old) * t;
+                mesh.nodes[n] = moved;
+                let after = worst(mesh);
+                let no_worse = after <= 1e-9 || {
+                    mesh.nodes[n] = old;
+                    let was = *before.get_or_insert_with(|| worst(mesh));
+                    mesh.nodes[n] = moved;
+                    after <= was.max(0.0) + 1e-9
+                };
+                if after.is_finite() && no_worse && shapes_allowed(mesh, n, old, &around[n], bounds)
                 {
                     kept += 1;
                     mark_nodes(mesh, around[n].iter().map(|&(q, _)| q), dirty);
