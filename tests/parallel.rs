@@ -44,7 +44,9 @@ fn a_second_engine_or_no_trace_gives_the_same_mesh_and_trace() {
     assert_eq!(untraced.mesh.quads(), alone.mesh.quads());
 }
 
-/// `freemesh mesh DOMAIN --stats`: its stderr.
+/// `freemesh mesh DOMAIN --stats` without an answer store (every run
+/// builds its engine, whatever earlier runs left in the user's): its
+/// stderr.
 fn stats_of(domain: &str) -> String {
     let out = std::env::temp_dir().join(format!(
         "freemesh-parallel-{}-{}.msh",
@@ -52,6 +54,7 @@ fn stats_of(domain: &str) -> String {
         domain.replace('/', "_")
     ));
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_freemesh"))
+        .env("FREEMESH_ANSWER_STORE", "off")
         .args(["mesh", domain, "--stats", "-o"])
         .arg(&out)
         .output()

@@ -23,7 +23,7 @@ use crate::kb::terms::Bindings;
 
 /// The file format; a change of it, of the crate's version or of any
 /// rule's text names another file.
-const FORMAT: &str = "freemesh answer store 2";
+const FORMAT: &str = "freemesh answer store 3";
 
 /// The engine whose answers are kept (another version may answer
 /// otherwise; a test holds it to `Cargo.lock`'s).
@@ -32,8 +32,11 @@ const ENGINE: &str = "scryer-prolog 0.10.0";
 /// The most answers a store keeps (about 8 MB: read in a few
 /// milliseconds, and not parsed: the file is its own index); past it, a
 /// run's new answers and the kept ones it used stay, and take the place
-/// of others chosen by key (as good as at random): a domain meshed again
-/// finds its answers whatever was meshed between.
+/// of those the longest unused (each answer carries the number of the
+/// last run that wrote it or used it): the domains meshed last find
+/// their answers whatever was meshed before them. (Dropped by key, as
+/// before, one run's new answers made every other domain's run build
+/// its engine again once the store was full.)
 const MOST_ANSWERS: usize = 100_000;
 
 /// The key of one question: the rules' state and the question's text.
@@ -49,32 +52,47 @@ struct Store {
     used: Vec<bool>,
 }
 
-/// A store file as read: the format's line, the count `n`, the `n` keys
-/// in increasing order, `n + 1` offsets into the encoded answers, and the
-/// answers; a key is found by a binary search, nothing is parsed first.
+/// A store file as read: the format's line, the count `n`, the next
+/// run's number, the `n` keys in increasing order, the number of the run
+/// that last wrote or used each, `n + 1` offsets into the encoded
+/// answers, and the answers; a key is found by a binary search, nothing
+/// is parsed first.
 #[derive(Default)]
 struct StoreFile {
     bytes: Vec<u8>,
     n: usize,
+    next_run: u32,
     keys_at: usize,
+    runs_at: usize,
     offsets_at: usize,
     answers_at: usize,
 }
+
+/// An entry to write: its key, the number of the run that last wrote or
+/// used it, its encoded answers.
+type Entry<'a> = (Key, u32, &'a [u8]);
 
 impl StoreFile {
     /// The file's bytes as a store; None if they are not one (then the
     /// store starts empty).
     fn of(bytes: Vec<u8>) -> Option<StoreFile> {
-        let keys_at = FORMAT.len() + 1 + 4;
+        let keys_at = FORMAT.len() + 1 + 8;
         if !bytes.starts_with(FORMAT.as_bytes()) || bytes.get(FORMAT.len()) != Some(&b'\n') {
             return None;
         }
-        let n = u32::from_le_bytes(bytes.get(keys_at - 4..keys_at)?.try_into().ok()?) as usize;
-        let offsets_at = keys_at + 16 * n;
+        let word = |at: usize| -> Option<u32> {
+            Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
+        };
+        let n = word(keys_at - 8)? as usize;
+        let next_run = word(keys_at - 4)?;
+        let runs_at = keys_at + 16 * n;
+        let offsets_at = runs_at + 4 * n;
         let answers_at = offsets_at + 4 * (n + 1);
         let file = StoreFile {
             n,
+            next_run,
             keys_at,
+            runs_at,
             offsets_at,
             answers_at,
             bytes,
@@ -87,6 +105,11 @@ impl StoreFile {
     fn key(&self, i: usize) -> Key {
         let at = self.keys_at + 16 * i;
         Key::from_le_bytes(self.bytes[at..at + 16].try_into().unwrap_or_default())
+    }
+
+    fn run(&self, i: usize) -> u32 {
+        let at = self.runs_at + 4 * i;
+        u32::from_le_bytes(self.bytes[at..at + 4].try_into().unwrap_or_default())
     }
 
     fn offset(&self, i: usize) -> Option<usize> {
@@ -117,35 +140,28 @@ impl StoreFile {
         self.answer(self.find(key)?)
     }
 
-    /// The entries that `first` picks, then the others, each in key order.
-    fn entries_first(
-        &self,
-        first: impl Fn(usize) -> bool + Copy,
-    ) -> impl Iterator<Item = (Key, &[u8])> {
-        let picked = (0..self.n).filter(move |&i| first(i));
-        let others = (0..self.n).filter(move |&i| !first(i));
-        picked
-            .chain(others)
-            .filter_map(|i| Some((self.key(i), self.answer(i)?)))
-    }
-
-    /// The file of `entries` (in increasing key order).
-    fn write(entries: &[(Key, &[u8])]) -> Vec<u8> {
-        let total: usize = entries.iter().map(|(_, a)| a.len()).sum();
-        let mut out = Vec::with_capacity(FORMAT.len() + 5 + 20 * entries.len() + total + 4);
+    /// The file of `entries` (in increasing key order), the next run
+    /// numbered `next_run`.
+    fn write(entries: &[Entry], next_run: u32) -> Vec<u8> {
+        let total: usize = entries.iter().map(|(_, _, a)| a.len()).sum();
+        let mut out = Vec::with_capacity(FORMAT.len() + 9 + 24 * entries.len() + total + 4);
         out.extend_from_slice(FORMAT.as_bytes());
         out.push(b'\n');
         out.extend_from_slice(&(entries.len() as u32).to_le_bytes());
-        for (k, _) in entries {
+        out.extend_from_slice(&next_run.to_le_bytes());
+        for (k, _, _) in entries {
             out.extend_from_slice(&k.to_le_bytes());
+        }
+        for (_, run, _) in entries {
+            out.extend_from_slice(&run.to_le_bytes());
         }
         let mut offset = 0u32;
         out.extend_from_slice(&offset.to_le_bytes());
-        for (_, a) in entries {
+        for (_, _, a) in entries {
             offset += a.len() as u32;
             out.extend_from_slice(&offset.to_le_bytes());
         }
-        for (_, a) in entries {
+        for (_, _, a) in entries {
             out.extend_from_slice(a);
         }
         out
@@ -153,16 +169,30 @@ impl StoreFile {
 }
 
 impl Store {
-    /// The entries to write, at most `most`, in key order: the new ones,
-    /// the read ones this run used, then others.
-    fn kept(&self, most: usize) -> Vec<(Key, &[u8])> {
-        let mut entries: Vec<(Key, &[u8])> =
-            self.new.iter().map(|(k, a)| (*k, a.as_slice())).collect();
-        entries.sort_by_key(|(k, _)| *k);
+    /// The entries to write, at most `most`, in key order: the new ones
+    /// and the read ones this run used (numbered this run's), then the
+    /// others by the run that last wrote or used them, latest first.
+    fn kept(&self, most: usize) -> Vec<Entry<'_>> {
+        let run = self.read.next_run;
+        let mut entries: Vec<Entry> = self
+            .new
+            .iter()
+            .map(|(k, a)| (*k, run, a.as_slice()))
+            .collect();
+        entries.sort_by_key(|e| e.0);
         entries.truncate(most);
+        let read = &self.read;
+        let mut others: Vec<Entry> = (0..read.n)
+            .filter_map(|i| {
+                let last = if self.used[i] { run } else { read.run(i) };
+                Some((read.key(i), last, read.answer(i)?))
+            })
+            .collect();
+        // (a sort that keeps key order among equals)
+        others.sort_by_key(|e| std::cmp::Reverse(e.1));
         let room = most - entries.len();
-        entries.extend(self.read.entries_first(|i| self.used[i]).take(room));
-        entries.sort_by_key(|(k, _)| *k);
+        entries.extend(others.into_iter().take(room));
+        entries.sort_by_key(|e| e.0);
         entries
     }
 }
@@ -312,7 +342,10 @@ pub fn save() -> Result<usize, String> {
     if store.new.is_empty() {
         return Ok(0);
     }
-    let out = StoreFile::write(&store.kept(MOST_ANSWERS));
+    let out = StoreFile::write(
+        &store.kept(MOST_ANSWERS),
+        store.read.next_run.wrapping_add(1),
+    );
     let folder = store.path.parent().ok_or("no folder")?;
     std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
     let tmp = store
@@ -470,9 +503,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_full_store_keeps_the_new_answers_and_the_ones_used() {
-        let read: Vec<(Key, &[u8])> = (0..6u128).map(|k| (k, &b"r"[..])).collect();
-        let read = StoreFile::of(StoreFile::write(&read)).unwrap();
+    fn a_full_store_keeps_the_new_answers_the_ones_used_then_the_latest() {
+        // keys 0 to 5, last used by runs 1, 3, 2, 3, 0 and 0; this is run 4
+        let runs = [1, 3, 2, 3, 0, 0];
+        let read: Vec<Entry> = (0..6u128)
+            .map(|k| (k, runs[k as usize], &b"r"[..]))
+            .collect();
+        let read = StoreFile::of(StoreFile::write(&read, 4)).unwrap();
+        assert_eq!((0..6).map(|i| read.run(i)).collect::<Vec<_>>(), runs);
         let mut used = vec![false; read.n];
         used[4] = true;
         used[5] = true;
@@ -484,9 +522,16 @@ mod tests {
         };
         let keys = |most| store.kept(most).iter().map(|e| e.0).collect::<Vec<_>>();
         assert_eq!(keys(3), [4, 5, 9]);
-        assert_eq!(keys(4), [0, 4, 5, 9]);
+        // then the latest: runs 3 (keys 1 and 3, in key order), 2, 1
+        assert_eq!(keys(4), [1, 4, 5, 9]);
+        assert_eq!(keys(5), [1, 3, 4, 5, 9]);
+        assert_eq!(keys(6), [1, 2, 3, 4, 5, 9]);
         assert_eq!(keys(1), [9]);
         assert_eq!(keys(10), [0, 1, 2, 3, 4, 5, 9]);
+        // what was used or new is this run's
+        let kept = store.kept(10);
+        let run_of = |k: Key| kept.iter().find(|e| e.0 == k).unwrap().1;
+        assert_eq!([run_of(4), run_of(5), run_of(9), run_of(0)], [4, 4, 4, 1]);
     }
 
     #[test]
@@ -545,18 +590,19 @@ mod tests {
 
     #[test]
     fn a_store_file_finds_each_of_its_answers_and_no_other() {
-        let entries: Vec<(Key, &[u8])> = vec![(3, b"c"), (10, b""), (u128::MAX, b"zz")];
-        let file = StoreFile::of(StoreFile::write(&entries)).unwrap();
-        for (k, a) in &entries {
+        let entries: Vec<Entry> = vec![(3, 7, b"c"), (10, 0, b""), (u128::MAX, 2, b"zz")];
+        let file = StoreFile::of(StoreFile::write(&entries, 8)).unwrap();
+        for (i, (k, run, a)) in entries.iter().enumerate() {
             assert_eq!(file.get(*k), Some(*a));
+            assert_eq!(file.run(i), *run);
         }
         assert_eq!(file.get(4), None);
-        assert_eq!(file.entries_first(|_| false).collect::<Vec<_>>(), entries);
+        assert_eq!(file.next_run, 8);
     }
 
     #[test]
     fn a_file_cut_short_is_no_store() {
-        let whole = StoreFile::write(&[(1, b"abc".as_slice())]);
+        let whole = StoreFile::write(&[(1, 0, b"abc".as_slice())], 1);
         assert!(StoreFile::of(whole[..whole.len() - 1].to_vec()).is_none());
         assert!(StoreFile::of(whole[..10].to_vec()).is_none());
         assert!(StoreFile::of(b"something else".to_vec()).is_none());
