@@ -80,11 +80,8 @@ impl StoreFile {
         if !bytes.starts_with(FORMAT.as_bytes()) || bytes.get(FORMAT.len()) != Some(&b'\n') {
             return None;
         }
-        let word = |at: usize| -> Option<u32> {
-            Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
-        };
-        let n = word(keys_at - 8)? as usize;
-        let next_run = word(keys_at - 4)?;
+        let n = u32_at(&bytes, keys_at - 8)? as usize;
+        let next_run = u32_at(&bytes, keys_at - 4)?;
         let runs_at = keys_at + 16 * n;
         let offsets_at = runs_at + 4 * n;
         let answers_at = offsets_at + 4 * (n + 1);
@@ -108,13 +105,11 @@ impl StoreFile {
     }
 
     fn run(&self, i: usize) -> u32 {
-        let at = self.runs_at + 4 * i;
-        u32::from_le_bytes(self.bytes[at..at + 4].try_into().unwrap_or_default())
+        u32_at(&self.bytes, self.runs_at + 4 * i).unwrap_or_default()
     }
 
     fn offset(&self, i: usize) -> Option<usize> {
-        let at = self.offsets_at + 4 * i;
-        Some(u32::from_le_bytes(self.bytes.get(at..at + 4)?.try_into().ok()?) as usize)
+        Some(u32_at(&self.bytes, self.offsets_at + 4 * i)? as usize)
     }
 
     fn answer(&self, i: usize) -> Option<&[u8]> {
@@ -188,9 +183,11 @@ impl Store {
                 Some((read.key(i), last, read.answer(i)?))
             })
             .collect();
-        // (a sort that keeps key order among equals)
-        others.sort_by_key(|e| std::cmp::Reverse(e.1));
         let room = most - entries.len();
+        if others.len() > room {
+            // (a sort that keeps key order among equals)
+            others.sort_by_key(|e| std::cmp::Reverse(e.1));
+        }
         entries.extend(others.into_iter().take(room));
         entries.sort_by_key(|e| e.0);
         entries
@@ -344,7 +341,8 @@ pub fn save() -> Result<usize, String> {
     }
     let out = StoreFile::write(
         &store.kept(MOST_ANSWERS),
-        store.read.next_run.wrapping_add(1),
+        // (never wrapped: a run numbered 0 again would count as the oldest)
+        store.read.next_run.saturating_add(1),
     );
     let folder = store.path.parent().ok_or("no folder")?;
     std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
@@ -359,6 +357,11 @@ pub fn save() -> Result<usize, String> {
         return Err(format!("{}: {e}", store.path.display()));
     }
     Ok(store.new.len())
+}
+
+/// The little-endian u32 at `at`, if the bytes hold one there.
+fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
+    Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
 }
 
 fn take<'a>(bytes: &mut &'a [u8], n: usize) -> Option<&'a [u8]> {
