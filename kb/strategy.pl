@@ -98,6 +98,13 @@ strategy([tip, b4, b5, b3, coarsen, refine, b2, b1]).
 %   many element sizes over most of their length get one segment count,
 %   so that one structured row of elements fills the wall between them
 %   (0: never).
+% line_gap: an inner line's edge that comes nearer another loop or line
+%   (one it does not touch) than this many element sizes gets segments as
+%   long as that gap, so that the elements between grow from it (a line's
+%   end a fifth of the size from a small hole, in one segment, leaves a
+%   gap the fronts can only bridge with a sliver); 0: never.
+% line_gap_floor: those segments are no shorter than this many element
+%   sizes.
 % size_growth: in a graded run (a max_size above the size), the size
 %   aimed for grows this much a unit of distance from the boundary, up
 %   to max_size (Gmsh's graded meshes grow 0.2).
@@ -316,6 +323,8 @@ bound(fallback_spacing, 1.5).
 bound(fallback_pairs, 1).
 bound(ring_corner_give, 10).
 bound(thin_wall, 2).
+bound(line_gap, 1).
+bound(line_gap_floor, 0.25).
 bound(size_growth, 0.6).
 bound(coarsen_ratio, 1.5).
 bound(row_growth, 1.5).

@@ -636,6 +636,13 @@ fn mesh_one(
                 result.stats.thin_wall_edges
             );
         }
+        if result.stats.near_line_edges > 0 {
+            eprintln!(
+                "{}: boundary: {} inner-line edges nearer another part of the boundary than bound(line_gap, F) sizes given segments as long as the gap (not under bound(line_gap_floor, G) sizes)",
+                domain.name(),
+                result.stats.near_line_edges
+            );
+        }
         let ph = &result.phases;
         if ph.blocks > 0.0 {
             eprintln!(

@@ -66,6 +66,9 @@ pub struct MeshStats {
     /// Input edges given one segment count with the edges they face
     /// across a wall thinner than `bound(thin_wall, K)` element sizes.
     pub thin_wall_edges: usize,
+    /// Inner lines' edges given segments of their gap to another part of
+    /// the boundary nearer than `bound(line_gap, F)` element sizes.
+    pub near_line_edges: usize,
     /// With `--blocks`, the blocks meshed as mapping elements (the other
     /// counts are then the block layout's); 0 otherwise.
     pub blocks: usize,

@@ -12,6 +12,7 @@ use crate::features::FrontFeatures;
 use crate::input::arc_corners::CornerAim;
 use crate::input::boundary::{self, Discretised};
 use crate::input::domain::{self, Domain, DomainError};
+use crate::input::segment_counts::CountBounds;
 use crate::kb::{KbError, KbStats, KnowledgeBase};
 use crate::mesh::Mesh;
 use crate::partial_mesh::MeshStats;
@@ -200,8 +201,9 @@ pub struct RunBoundary {
     disc: Discretised,
     size: f64,
     area: f64,
-    /// The `thin_wall` bound the segment counts were matched with.
-    wall: f64,
+    /// The bounds the segment counts were made with (`thin_wall`,
+    /// `line_gap`, `line_gap_floor`).
+    counts: CountBounds,
     /// The `max_size_jump` bound the cutting lines were drawn with.
     jump: f64,
     /// What the arcs' first chords at input corners were held to.
@@ -233,18 +235,24 @@ impl RunBoundary {
 
 /// Discretises a domain's boundary with boundary size `size` (the
 /// domain's own when None) and draws the cutting lines, with the built-in
-/// `thin_wall`, `max_size_jump` and corner bounds (a run whose KB sets
-/// others discretises again).
+/// segment count (`CountBounds`), `max_size_jump` and corner bounds (a
+/// run whose KB sets others discretises again).
 pub fn discretise_for_run(domain: &Domain, size: Option<f64>) -> Result<RunBoundary, Error> {
     let (host, element) = (HostBounds::default(), ElementBounds::default());
     let aim = CornerAim::of(&host, &element);
-    discretise_with_bounds(domain, size, host.thin_wall, element.max_size_jump, aim)
+    discretise_with_bounds(
+        domain,
+        size,
+        CountBounds::of(&host),
+        element.max_size_jump,
+        aim,
+    )
 }
 
 fn discretise_with_bounds(
     domain: &Domain,
     size: Option<f64>,
-    wall: f64,
+    counts: CountBounds,
     jump: f64,
     aim: CornerAim,
 ) -> Result<RunBoundary, Error> {
@@ -267,32 +275,35 @@ fn discretise_with_bounds(
         }
         .into());
     }
-    let disc = boundary::discretise(domain, size, wall, jump, &aim)?;
+    let disc = boundary::discretise(domain, size, counts, jump, &aim)?;
     let area = disc.mesh.boundary_area(1 + domain.holes.len() as u32);
     Ok(RunBoundary {
         disc,
         size,
         area,
-        wall,
+        counts,
         jump,
         aim,
     })
 }
 
-/// The boundary discretised again where the KB's `thin_wall`,
-/// `max_size_jump` or corner bounds (see `CornerAim`) are not the ones
-/// it was made with.
+/// The boundary discretised again where the KB's segment count bounds
+/// (`CountBounds`), `max_size_jump` or corner bounds (see `CornerAim`)
+/// are not the ones it was made with.
 fn with_kb_bounds(
     domain: &Domain,
     run_boundary: RunBoundary,
     settings: &Settings,
 ) -> Result<RunBoundary, Error> {
-    let (wall, jump) = (settings.host.thin_wall, settings.element.max_size_jump);
+    let (counts, jump) = (
+        CountBounds::of(&settings.host),
+        settings.element.max_size_jump,
+    );
     let aim = CornerAim::of(&settings.host, &settings.element);
-    if run_boundary.wall == wall && run_boundary.jump == jump && run_boundary.aim == aim {
+    if run_boundary.counts == counts && run_boundary.jump == jump && run_boundary.aim == aim {
         return Ok(run_boundary);
     }
-    discretise_with_bounds(domain, Some(run_boundary.size), wall, jump, aim)
+    discretise_with_bounds(domain, Some(run_boundary.size), counts, jump, aim)
 }
 
 /// The boundary features of a domain's initial loop (after the cutting
@@ -621,6 +632,7 @@ impl<'k> Run<'k> {
     pub fn finish(&mut self) -> Result<MeshResult, Error> {
         let mut r = self.finish_run()?;
         r.stats.thin_wall_edges = self.boundary.thin_wall_edges;
+        r.stats.near_line_edges = self.boundary.near_line_edges;
         Ok(r)
     }
 

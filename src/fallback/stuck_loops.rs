@@ -345,7 +345,9 @@ fn pull_back_curved_midpoints(
             continue;
         }
         let chord = (out.nodes[k.0 as usize] + out.nodes[k.1 as usize]) / 2.0;
-        if push_interior_along(out, m, out.nodes[m as usize] - chord, &quads_at) {
+        if push_interior_along(out, m, out.nodes[m as usize] - chord, &quads_at)
+            || untangle_round(out, m, &quads_at)
+        {
             continue;
         }
         let curve = out.nodes[m as usize];
@@ -401,6 +403,99 @@ fn push_interior_along(
         out.nodes[x as usize] = p;
     }
     false
+}
+
+/// Where pushing them along did not do, the interior nodes within two
+/// elements of the halving node `m` (on its curve) each moved in turn by
+/// a compass search to where the least corner cross product of its
+/// elements is largest (a fold's reflex corner has a sine near -1
+/// wherever the node is near: the cross product, twice the corner's
+/// triangle's signed area, grows as it unfolds), a few sweeps, until
+/// every element round them is convex (true); else they are put back
+/// (false).
+fn untangle_round(out: &mut Mesh, m: u32, quads_at: &HashMap<u32, Vec<usize>>) -> bool {
+    let none: &[usize] = &[];
+    let at = |n: u32| quads_at.get(&n).map(Vec::as_slice).unwrap_or(none);
+    let interior_of = |out: &Mesh, quads: &[usize], into: &mut Vec<u32>| {
+        for &q in quads {
+            for x in out.quads[q] {
+                if out.kinds[x as usize] == NodeKind::Interior && !into.contains(&x) {
+                    into.push(x);
+                }
+            }
+        }
+    };
+    let mut near: Vec<u32> = Vec::new();
+    interior_of(out, at(m), &mut near);
+    for x in near.clone() {
+        interior_of(out, at(x), &mut near);
+    }
+    let from: Vec<DVec2> = near.iter().map(|&x| out.nodes[x as usize]).collect();
+    let mut touched: Vec<usize> = at(m).to_vec();
+    for &x in &near {
+        touched.extend_from_slice(at(x));
+    }
+    let all_convex = |out: &Mesh| {
+        touched
+            .iter()
+            .all(|&q| crate::geometry::quad_is_convex(out.quad_points(q)))
+    };
+    // the search's first step a quarter of the mean edge round the
+    // nodes as they were (an edge shrinking as a fold closes must not
+    // shrink the step with it)
+    let (sum, count) = touched.iter().fold((0.0, 0), |(s, n), &q| {
+        let p = out.quad_points(q);
+        (
+            s + (0..4)
+                .map(|k| (p[(k + 1) % 4] - p[k]).length())
+                .sum::<f64>(),
+            n + 4,
+        )
+    });
+    let first_step = 0.25 * sum / count.max(1) as f64;
+    for _ in 0..UNTANGLE_SWEEPS {
+        for &x in &near {
+            let least = |out: &Mesh| {
+                at(x)
+                    .iter()
+                    .map(|&q| least_corner_cross(out.quad_points(q)))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let mut best = (least(out), out.nodes[x as usize]);
+            let mut step = first_step;
+            for _ in 0..6 {
+                let centre = best.1;
+                for k in 0..8 {
+                    let (sin, cos) = (k as f64 * std::f64::consts::FRAC_PI_4).sin_cos();
+                    out.nodes[x as usize] = centre + DVec2::new(cos, sin) * step;
+                    let w = least(out);
+                    if w > best.0 {
+                        best = (w, out.nodes[x as usize]);
+                    }
+                }
+                step *= 0.5;
+            }
+            out.nodes[x as usize] = best.1;
+        }
+        if all_convex(out) {
+            return true;
+        }
+    }
+    for (&x, &p) in near.iter().zip(&from) {
+        out.nodes[x as usize] = p;
+    }
+    false
+}
+
+/// Sweeps of `untangle_round` before it gives up.
+const UNTANGLE_SWEEPS: usize = 8;
+
+/// The least of a quad's corner cross products (of its two edges from
+/// the corner): negative at a reflex corner.
+fn least_corner_cross(p: [DVec2; 4]) -> f64 {
+    (0..4)
+        .map(|k| (p[(k + 1) % 4] - p[k]).perp_dot(p[(k + 3) % 4] - p[k]))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The elements reached from the open region through elements under
@@ -495,6 +590,7 @@ mod tests {
     use super::*;
     use crate::input::arc_corners::CornerAim;
     use crate::input::boundary::discretise;
+    use crate::input::segment_counts::CountBounds;
 
     /// Triangles split in three only (the halving's tests).
     const SPLIT: Spacing = Spacing {
@@ -514,7 +610,7 @@ mod tests {
             r#"{{"name": "sq", "size": 1, "outer": {{"points": [[0,0],[{n},0],[{n},{n}],[0,{n}]]}}}}"#
         ))
         .unwrap();
-        let mut mesh = discretise(&domain, 1.0, 0.0, 2.0, &CornerAim::paper())
+        let mut mesh = discretise(&domain, 1.0, CountBounds::PLAIN, 2.0, &CornerAim::paper())
             .unwrap()
             .mesh;
         assert_eq!(mesh.nodes.len(), 4 * n);
@@ -584,6 +680,34 @@ mod tests {
                 0.5 * (p[2] - p[0]).perp_dot(p[3] - p[1])
             })
             .sum()
+    }
+
+    /// A boundary node put on its curve past the interior node above it
+    /// (the elements round it folded): the interior nodes near it move
+    /// until every element round them is convex, the node itself stays.
+    #[test]
+    fn a_fold_at_a_node_put_on_its_curve_is_untangled_round_it() {
+        let (mut mesh, _, _) = ring_round_open_block(4, 2);
+        let m = mesh
+            .nodes
+            .iter()
+            .position(|&p| (p - DVec2::new(2.0, 0.0)).length() < 1e-9)
+            .unwrap() as u32;
+        let put = DVec2::new(2.0, 1.3);
+        mesh.nodes[m as usize] = put;
+        let convex = |mesh: &Mesh| {
+            (0..mesh.quads.len()).all(|q| crate::geometry::quad_is_convex(mesh.quad_points(q)))
+        };
+        assert!(!convex(&mesh));
+        let mut quads_at: HashMap<u32, Vec<usize>> = HashMap::new();
+        for (qi, q) in mesh.quads.iter().enumerate() {
+            for &n in q {
+                quads_at.entry(n).or_default().push(qi);
+            }
+        }
+        assert!(untangle_round(&mut mesh, m, &quads_at));
+        assert!(convex(&mesh));
+        assert_eq!(mesh.nodes[m as usize], put);
     }
 
     #[test]

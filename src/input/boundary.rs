@@ -8,7 +8,7 @@ use rustc_hash::FxHashMap;
 use crate::geometry::{interior_angle, segments_intersect, SegmentRelation};
 use crate::input::arc_corners::{self, CornerAim};
 use crate::input::domain::{Chain, Curve, Domain, DomainError};
-use crate::input::segment_counts::segment_counts;
+use crate::input::segment_counts::{segment_counts, CountBounds};
 use crate::mesh::{BoundaryEdge, Mesh, NodeKind};
 
 /// The discretised input: the mesh skeleton (boundary nodes and edges) and
@@ -29,6 +29,9 @@ pub struct Discretised {
     /// Edges of the input given one segment count with the edges they
     /// face across a thin wall (see thin_walls.rs).
     pub thin_wall_edges: usize,
+    /// Inner lines' edges given segments of their gap to another chain
+    /// (see line_gaps.rs).
+    pub near_line_edges: usize,
 }
 
 impl Discretised {
@@ -147,27 +150,30 @@ fn chain_nodes(
 /// lines that reach the boundary or each other part the domain into
 /// regions, each region's loop is made even: a free edge of a loop round
 /// it (or of a line between two odd regions) gets one more segment.
-/// `wall` is the KB's `thin_wall` bound, `jump` its `max_size_jump` (a
-/// cut's segments kept within it of the input segments at its ends).
+/// `bounds` are the KB's bounds of the segment counts, `jump` its
+/// `max_size_jump` (a cut's segments kept within it of the input
+/// segments at its ends).
 pub fn discretise(
     domain: &Domain,
     size: f64,
-    wall: f64,
+    bounds: CountBounds,
     jump: f64,
     aim: &CornerAim,
 ) -> Result<Discretised, DomainError> {
-    let (mut counts, thin_wall_edges) = segment_counts(domain, size, wall)?;
+    let (mut counts, changed) = segment_counts(domain, size, bounds)?;
+    let told = |disc: Discretised| Discretised {
+        thin_wall_edges: changed.walled,
+        near_line_edges: changed.near_lines,
+        ..disc
+    };
     let (disc, faces, sources) = discretise_with(domain, size, jump, aim, &counts)?;
     if faces.iter().all(|f| f.len % 2 == 0) {
-        return Ok(Discretised {
-            thin_wall_edges,
-            ..disc
-        });
+        return Ok(told(disc));
     }
     even_regions(domain, &disc.mesh, &faces, &sources, &mut counts)?;
     let (disc, faces, _) = discretise_with(domain, size, jump, aim, &counts)?;
     match faces.iter().find(|f| f.len % 2 == 1) {
-        None => Ok(Discretised { thin_wall_edges, ..disc }),
+        None => Ok(told(disc)),
         Some(f) => Err(DomainError::Geometry(format!(
             "a region of the domain has an odd number of boundary segments ({}): no all-quad mesh exists",
             f.len
@@ -316,6 +322,7 @@ fn discretise_with(
             cuts,
             lines_meet,
             thin_wall_edges: 0,
+            near_line_edges: 0,
         },
         faces,
         sources,
@@ -685,6 +692,7 @@ mod tests {
     use super::discretise;
     use crate::input::arc_corners::CornerAim;
     use crate::input::domain::Domain;
+    use crate::input::segment_counts::CountBounds;
 
     /// A cut does not start at a sharp tip whose input segments are far
     /// shorter than the cut's (a blade's trailing edge next to the outer
@@ -698,7 +706,7 @@ mod tests {
                                       [0, -0.5], [2.49, -0.003]]}]}"#,
         )
         .unwrap();
-        let disc = discretise(&domain, 0.2, 0.0, 2.0, &CornerAim::paper()).unwrap();
+        let disc = discretise(&domain, 0.2, CountBounds::PLAIN, 2.0, &CornerAim::paper()).unwrap();
         assert_eq!(disc.cuts.len(), 1);
         let tip = glam::DVec2::new(2.5, 0.0);
         for end in [disc.cuts[0][0], *disc.cuts[0].last().unwrap()] {
@@ -707,7 +715,8 @@ mod tests {
         }
         // the bound is the KB's to set: with no limit on the jump the
         // shortest cut, from the tip, wins
-        let loose = discretise(&domain, 0.2, 0.0, 100.0, &CornerAim::paper()).unwrap();
+        let loose =
+            discretise(&domain, 0.2, CountBounds::PLAIN, 100.0, &CornerAim::paper()).unwrap();
         let ends = [loose.cuts[0][0], *loose.cuts[0].last().unwrap()];
         assert!(
             ends.iter()

@@ -6,5 +6,6 @@ pub mod boundary;
 pub mod curves;
 pub mod domain;
 mod keys;
-mod segment_counts;
+mod line_gaps;
+pub mod segment_counts;
 mod thin_walls;

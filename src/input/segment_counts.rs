@@ -1,23 +1,69 @@
 //! How many segments each edge of the domain gets: its length over the
 //! size (or the count the input fixes), at least one per 60 degrees of
-//! arc, one count for edges facing each other across a thin wall, and an
+//! arc, one count for edges facing each other across a thin wall, an
+//! inner line's edge near another chain in segments of the gap, and an
 //! even total.
 
 use crate::input::curves::fewest_segments;
 use crate::input::domain::{Domain, DomainError, MAX_BOUNDARY_SEGMENTS};
+use crate::input::line_gaps::refine_lines_near_others;
 use crate::input::thin_walls::match_facing_counts;
+use crate::settings::HostBounds;
+
+/// The knowledge base's bounds the segment counts follow.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CountBounds {
+    /// `bound(thin_wall, K)` (see thin_walls.rs); 0: never.
+    pub thin_wall: f64,
+    /// `bound(line_gap, F)` (see line_gaps.rs); 0: never.
+    pub line_gap: f64,
+    /// `bound(line_gap_floor, G)` (see line_gaps.rs).
+    pub line_gap_floor: f64,
+}
+
+impl CountBounds {
+    /// The counts' bounds of a knowledge base's host bounds.
+    pub fn of(host: &HostBounds) -> CountBounds {
+        CountBounds {
+            thin_wall: host.thin_wall,
+            line_gap: host.line_gap,
+            line_gap_floor: host.line_gap_floor,
+        }
+    }
+
+    /// Every edge its length over the size: no walls matched, no line
+    /// refined.
+    #[cfg(test)]
+    pub const PLAIN: CountBounds = CountBounds {
+        thin_wall: 0.0,
+        line_gap: 0.0,
+        line_gap_floor: 1.0,
+    };
+}
+
+/// What the counts' bounds changed: the edges given one count across a
+/// thin wall, and the inner lines' edges given segments of a gap.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CountsChanged {
+    /// Edges in a thin wall's group.
+    pub walled: usize,
+    /// Inner lines' edges given more segments near another chain.
+    pub near_lines: usize,
+}
 
 /// The segment count of every edge of every chain (outer, holes, lines in
 /// that order), with an even total: edges facing each other across a wall
-/// thinner than `wall` element sizes get one count (see thin_walls.rs);
-/// where the total of the derived counts is odd, the free edge of a loop
-/// with the longest segments gets one more, outside the walls where it can.
-/// Returns the counts and how many edges a wall's matching covers.
+/// thinner than `bounds.thin_wall` element sizes get one count (see
+/// thin_walls.rs), an inner line's edge near another chain segments of
+/// the gap (line_gaps.rs); where the total of the derived counts is odd,
+/// the free edge of a loop with the longest segments gets one more,
+/// outside the walls where it can. Returns the counts and what the
+/// bounds changed.
 pub(crate) fn segment_counts(
     domain: &Domain,
     size: f64,
-    wall: f64,
-) -> Result<(Vec<Vec<usize>>, usize), DomainError> {
+    bounds: CountBounds,
+) -> Result<(Vec<Vec<usize>>, CountsChanged), DomainError> {
     let mut counts = Vec::new();
     let mut fixed = Vec::new();
     let area = domain.area();
@@ -52,7 +98,14 @@ pub(crate) fn segment_counts(
         );
         counts.push(row);
     }
-    let in_wall = match_facing_counts(domain, size, wall, &fixed, &mut counts);
+    let near_lines = refine_lines_near_others(
+        domain,
+        size,
+        (bounds.line_gap, bounds.line_gap_floor),
+        &fixed,
+        &mut counts,
+    );
+    let in_wall = match_facing_counts(domain, size, bounds.thin_wall, &fixed, &mut counts);
     let n_loops = 1 + domain.holes.len();
     let mut total: u128 = 0;
     // (outside the walls, segment length, chain, edge) of the free edges
@@ -91,5 +144,5 @@ pub(crate) fn segment_counts(
         }
     }
     let walled = in_wall.iter().flatten().filter(|&&w| w).count();
-    Ok((counts, walled))
+    Ok((counts, CountsChanged { walled, near_lines }))
 }

@@ -746,6 +746,7 @@ mod tests {
             cuts: vec![],
             lines_meet: false,
             thin_wall_edges: 0,
+            near_line_edges: 0,
         };
         Mesher::new(kb, disc, size, area).unwrap()
     }
