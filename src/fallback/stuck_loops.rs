@@ -372,20 +372,7 @@ fn push_interior_along(
     moved: DVec2,
     quads_at: &HashMap<u32, Vec<usize>>,
 ) -> bool {
-    let none: &[usize] = &[];
-    let at = |n: u32| quads_at.get(&n).map(Vec::as_slice).unwrap_or(none);
-    let mut near: Vec<u32> = Vec::new();
-    for &q in at(m) {
-        for x in out.quads[q] {
-            if out.kinds[x as usize] == NodeKind::Interior && !near.contains(&x) {
-                near.push(x);
-            }
-        }
-    }
-    let mut touched: Vec<usize> = at(m).to_vec();
-    for &x in &near {
-        touched.extend_from_slice(at(x));
-    }
+    let (near, touched) = interior_near(out, m, quads_at, 1);
     let from: Vec<DVec2> = near.iter().map(|&x| out.nodes[x as usize]).collect();
     for step in 1..=4 {
         let t = step as f64 / 2.0;
@@ -414,27 +401,8 @@ fn push_interior_along(
 /// every element round them is convex (true); else they are put back
 /// (false).
 fn untangle_round(out: &mut Mesh, m: u32, quads_at: &HashMap<u32, Vec<usize>>) -> bool {
-    let none: &[usize] = &[];
-    let at = |n: u32| quads_at.get(&n).map(Vec::as_slice).unwrap_or(none);
-    let interior_of = |out: &Mesh, quads: &[usize], into: &mut Vec<u32>| {
-        for &q in quads {
-            for x in out.quads[q] {
-                if out.kinds[x as usize] == NodeKind::Interior && !into.contains(&x) {
-                    into.push(x);
-                }
-            }
-        }
-    };
-    let mut near: Vec<u32> = Vec::new();
-    interior_of(out, at(m), &mut near);
-    for x in near.clone() {
-        interior_of(out, at(x), &mut near);
-    }
+    let (near, touched) = interior_near(out, m, quads_at, 2);
     let from: Vec<DVec2> = near.iter().map(|&x| out.nodes[x as usize]).collect();
-    let mut touched: Vec<usize> = at(m).to_vec();
-    for &x in &near {
-        touched.extend_from_slice(at(x));
-    }
     let all_convex = |out: &Mesh| {
         touched
             .iter()
@@ -453,29 +421,26 @@ fn untangle_round(out: &mut Mesh, m: u32, quads_at: &HashMap<u32, Vec<usize>>) -
         )
     });
     let first_step = 0.25 * sum / count.max(1) as f64;
+    let none: &[usize] = &[];
     for _ in 0..UNTANGLE_SWEEPS {
         for &x in &near {
+            let around = quads_at.get(&x).map(Vec::as_slice).unwrap_or(none);
             let least = |out: &Mesh| {
-                at(x)
+                around
                     .iter()
                     .map(|&q| least_corner_cross(out.quad_points(q)))
                     .fold(f64::INFINITY, f64::min)
             };
-            let mut best = (least(out), out.nodes[x as usize]);
-            let mut step = first_step;
-            for _ in 0..6 {
-                let centre = best.1;
-                for k in 0..8 {
-                    let (sin, cos) = (k as f64 * std::f64::consts::FRAC_PI_4).sin_cos();
-                    out.nodes[x as usize] = centre + DVec2::new(cos, sin) * step;
-                    let w = least(out);
-                    if w > best.0 {
-                        best = (w, out.nodes[x as usize]);
-                    }
-                }
-                step *= 0.5;
-            }
-            out.nodes[x as usize] = best.1;
+            let start = least(out);
+            out.nodes[x as usize] = crate::smoothing::compass_search_from(
+                out,
+                &[x as usize],
+                first_step,
+                start,
+                |o, _| Some(least(o)),
+                |w, best| w > best,
+                6,
+            );
         }
         if all_convex(out) {
             return true;
@@ -485,6 +450,41 @@ fn untangle_round(out: &mut Mesh, m: u32, quads_at: &HashMap<u32, Vec<usize>>) -
         out.nodes[x as usize] = p;
     }
     false
+}
+
+/// The interior nodes of the elements round boundary node `m` (`rings`
+/// 1), or of those and the elements round them (2), and every element
+/// round `m` or one of them, each once.
+fn interior_near(
+    out: &Mesh,
+    m: u32,
+    quads_at: &HashMap<u32, Vec<usize>>,
+    rings: usize,
+) -> (Vec<u32>, Vec<usize>) {
+    let none: &[usize] = &[];
+    let at = |n: u32| quads_at.get(&n).map(Vec::as_slice).unwrap_or(none);
+    let mut near: Vec<u32> = Vec::new();
+    let mut from = vec![m];
+    for _ in 0..rings {
+        let before = near.len();
+        for &n in &from {
+            for &q in at(n) {
+                for x in out.quads[q] {
+                    if out.kinds[x as usize] == NodeKind::Interior && !near.contains(&x) {
+                        near.push(x);
+                    }
+                }
+            }
+        }
+        from = near[before..].to_vec();
+    }
+    let mut touched: Vec<usize> = at(m).to_vec();
+    for &x in &near {
+        touched.extend_from_slice(at(x));
+    }
+    touched.sort_unstable();
+    touched.dedup();
+    (near, touched)
 }
 
 /// Sweeps of `untangle_round` before it gives up.

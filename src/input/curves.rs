@@ -185,6 +185,16 @@ impl Curve {
         }
     }
 
+    /// The box round eight segments' points along the curve, grown by
+    /// `by` on every side: lower and upper corners (for pairing edges
+    /// that may come within `by` of each other).
+    pub(crate) fn box_grown_by(&self, by: f64) -> (DVec2, DVec2) {
+        let pts = self.divide(8);
+        let lo = pts.iter().fold(DVec2::splat(f64::MAX), |m, p| m.min(*p));
+        let hi = pts.iter().fold(DVec2::splat(f64::MIN), |m, p| m.max(*p));
+        (lo - by, hi + by)
+    }
+
     /// The signed area contribution (shoelace term plus the arc's segment).
     pub fn signed_area_term(&self) -> f64 {
         match *self {

@@ -30,7 +30,15 @@ pub(crate) fn refine_lines_near_others(
     let loops = 1 + domain.holes.len();
     let chains: Vec<Vec<(Curve, DVec2, DVec2)>> = domain
         .chains()
-        .map(|c| c.edges.iter().map(|e| with_box(e.curve, reach)).collect())
+        .map(|c| {
+            c.edges
+                .iter()
+                .map(|e| {
+                    let (lo, hi) = e.curve.box_grown_by(reach);
+                    (e.curve, lo, hi)
+                })
+                .collect()
+        })
         .collect();
     let mut refined = 0;
     for (li, line) in domain.lines.iter().enumerate() {
@@ -54,7 +62,7 @@ pub(crate) fn refine_lines_near_others(
             if fixed[ci][ei] {
                 continue;
             }
-            let (_, lo, hi) = with_box(e.curve, 0.0);
+            let (lo, hi) = e.curve.box_grown_by(0.0);
             let samples: Vec<DVec2> = (0..=SAMPLES)
                 .map(|k| e.curve.point_at(k as f64 / SAMPLES as f64))
                 .collect();
@@ -76,14 +84,6 @@ pub(crate) fn refine_lines_near_others(
         }
     }
     refined
-}
-
-/// A curve with its bounding box (of points along it) grown by `by`.
-fn with_box(c: Curve, by: f64) -> (Curve, DVec2, DVec2) {
-    let pts = c.divide(8);
-    let lo = pts.iter().fold(DVec2::splat(f64::MAX), |m, p| m.min(*p));
-    let hi = pts.iter().fold(DVec2::splat(f64::MIN), |m, p| m.max(*p));
-    (c, lo - by, hi + by)
 }
 
 #[cfg(test)]

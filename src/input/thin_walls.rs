@@ -61,10 +61,8 @@ pub(crate) fn match_facing_counts(
     let mut edges: Vec<(usize, usize, Curve, DVec2, DVec2)> = Vec::new();
     for (ci, chain) in domain.chains().enumerate().take(loops) {
         for (ei, e) in chain.edges.iter().enumerate() {
-            let pts = e.curve.divide(8);
-            let lo = pts.iter().fold(DVec2::splat(f64::MAX), |m, p| m.min(*p));
-            let hi = pts.iter().fold(DVec2::splat(f64::MIN), |m, p| m.max(*p));
-            edges.push((ci, ei, e.curve, lo - gap, hi + gap));
+            let (lo, hi) = e.curve.box_grown_by(gap);
+            edges.push((ci, ei, e.curve, lo, hi));
         }
     }
     // pairs by a sweep over the boxes' left sides: near linear for the

@@ -59,12 +59,10 @@ pub(crate) fn compass_search_together<S: Copy>(
     ns: &[usize],
     around: &[(u32, u8)],
     start: S,
-    mut score: impl FnMut(&Mesh, S) -> Option<S>,
+    score: impl FnMut(&Mesh, S) -> Option<S>,
     better: impl Fn(S, S) -> bool,
     steps: usize,
 ) -> DVec2 {
-    let olds: Vec<DVec2> = ns.iter().map(|&n| mesh.nodes[n]).collect();
-    let (first, old) = (ns[0], olds[0]);
     let h = around
         .iter()
         .map(|&(q, c)| {
@@ -73,8 +71,25 @@ pub(crate) fn compass_search_together<S: Copy>(
             (mesh.nodes[quad[(c as usize + 1) % 4] as usize] - at).length()
         })
         .fold(f64::INFINITY, f64::min);
+    compass_search_from(mesh, ns, 0.25 * h, start, score, better, steps)
+}
+
+/// `compass_search_together` from a first step of `first_step` (where
+/// the shortest edge at the nodes is no measure of how far they must
+/// go: an edge closing as a fold unfolds).
+pub(crate) fn compass_search_from<S: Copy>(
+    mesh: &mut Mesh,
+    ns: &[usize],
+    first_step: f64,
+    start: S,
+    mut score: impl FnMut(&Mesh, S) -> Option<S>,
+    better: impl Fn(S, S) -> bool,
+    steps: usize,
+) -> DVec2 {
+    let olds: Vec<DVec2> = ns.iter().map(|&n| mesh.nodes[n]).collect();
+    let (first, old) = (ns[0], olds[0]);
     let mut best = (start, old);
-    let mut step = 0.25 * h;
+    let mut step = first_step;
     for _ in 0..steps {
         let centre = best.1;
         for dir in COMPASS {

@@ -19,6 +19,7 @@ mod untangle;
 #[cfg(test)]
 pub(crate) mod tests;
 
+pub(crate) use compass::compass_search_from;
 pub use compass::compass_search_steps;
 pub use ease::ease_bad_corners;
 pub use polish::polish_past_bounds;
