@@ -54,9 +54,11 @@ pub struct Options {
     /// against the elements near it for overlaps, and the fallbacks'
     /// passes are reported on standard error. Slow; it changes no mesh.
     pub self_check: bool,
-    /// Whether elements past the bounds are polished at the end (not in
-    /// a block layout: its elements are blocks to be). Default true.
-    pub polish: bool,
+    /// Whether the run makes a block layout (blocks/layouts.rs): its
+    /// elements are blocks to be, mapped and then polished with the whole
+    /// mesh, so its own finish does not polish the elements past the
+    /// bounds. Default false.
+    pub layout: bool,
 }
 
 impl Default for Options {
@@ -67,7 +69,7 @@ impl Default for Options {
             smoothing_passes: 30,
             trace: true,
             self_check: false,
-            polish: true,
+            layout: false,
         }
     }
 }

@@ -440,6 +440,9 @@ pub struct HostBounds {
     /// `line_gap_floor`: those segments are no shorter than this many
     /// element sizes.
     pub line_gap_floor: f64,
+    /// `finer_layouts_up_to`: the finer block layouts are made only where
+    /// the coarsest has at most this many blocks (see blocks/layouts.rs).
+    pub finer_layouts_up_to: f64,
 }
 
 impl Default for HostBounds {
@@ -451,14 +454,14 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 41] = [
+    pub const BUILT_IN: [f64; 42] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
         2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0, 0.0,
-        0.5, 3.0, 0.2, 15.0, 0.0, 0.0, 1.0, 0.25,
+        0.5, 3.0, 0.2, 15.0, 0.0, 0.0, 1.0, 0.25, 400.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 41] = [
+    pub const NAMES: [&'static str; 42] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -500,13 +503,14 @@ impl HostBounds {
         "weighted_laplace",
         "line_gap",
         "line_gap_floor",
+        "finer_layouts_up_to",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 41]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps, arc_corner_chord, arc_corner_from, graded_collapse_below, weighted_laplace, line_gap, line_gap_floor] =
+    pub fn new(v: [f64; 42]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps, arc_corner_chord, arc_corner_from, graded_collapse_below, weighted_laplace, line_gap, line_gap_floor, finer_layouts_up_to] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -550,6 +554,7 @@ impl HostBounds {
             (0.0, 2.0),
             (0.0, f64::MAX),
             (0.05, 2.0),
+            (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
@@ -602,6 +607,7 @@ impl HostBounds {
             weighted_laplace,
             line_gap,
             line_gap_floor,
+            finer_layouts_up_to,
         })
     }
 }

@@ -720,3 +720,28 @@ fn a_lone_element_on_a_slot_end_arc_is_split_into_four() {
     let q = &unsplit.quality;
     assert!(q.max_angle > 135.5, "without the split into four: {q:?}");
 }
+
+/// The layouts at three quarters and half the block size are made only
+/// where the first has at most `bound(finer_layouts_up_to, 400)` blocks:
+/// l-bracket-lines' first has 56, and the block mesh of its finest, with
+/// no irregular node, is kept; with the bound at 0
+/// (`tests/kb/finer-layouts-0.pl`) the first's (9 irregular nodes),
+/// within the bounds too, is kept, the finer layouts not made, and the
+/// trace says why.
+#[test]
+fn the_finer_layouts_are_made_only_up_to_a_number_of_blocks() {
+    let d = load("../shared/bench/domains/l-bracket-lines.json");
+    let lines = |r: &MeshResult| r.trace[0].redesign.join("\n");
+    let all = uniform_run(&d, &[]);
+    assert_eq!(all.trace[0].action, "layout(2)", "{}", lines(&all));
+    assert_eq!(irregular(&all), 0);
+    let first = uniform_run(&d, &["tests/kb/finer-layouts-0.pl"]);
+    assert_eq!(first.trace[0].action, "layout(4)", "{}", lines(&first));
+    let told = lines(&first);
+    assert!(
+        told.contains("over bound(finer_layouts_up_to, 0)"),
+        "{told}"
+    );
+    assert!(!told.contains("blocks of 2 element sizes"), "{told}");
+    within_the_bounds_below(&first, "l-bracket-lines", 45.0);
+}

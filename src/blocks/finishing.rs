@@ -3,6 +3,7 @@
 //! the others two at once where a core is spare; each is finished alone,
 //! so the meshes, and the one kept, are those of one at a time.
 
+use super::layouts::Candidate;
 use super::{number_without_gaps, Score};
 use crate::input::domain::Domain;
 use crate::kb::KbStats;
@@ -10,21 +11,22 @@ use crate::pipeline::{finish_mesh, Error, MeshResult, Options};
 use crate::recursion::Outcome;
 
 /// The best of `candidates` (name in the trace, words in its first
-/// step, the layout's outcome), finished in order until one is within
-/// the bounds: fewest elements outside them, then fewest irregular
-/// nodes; what each gave is added to `tried`.
+/// step, the layout's outcome; or the line of one that gave none),
+/// finished in order until one is within the bounds: fewest elements
+/// outside them, then fewest irregular nodes; what each gave is added to
+/// `tried`. The meshes' engine counts are the caller's to set (a
+/// candidate is made as it is asked for).
 pub(super) fn best_finished(
-    mut queue: impl Iterator<Item = (String, String, Outcome)>,
+    mut queue: impl Iterator<Item = Candidate>,
     domain: &Domain,
     settings: &crate::settings::Settings,
     opts: &Options,
-    kb_stats: (KbStats, KbStats),
+    kb_before: KbStats,
     tried: &mut Vec<String>,
 ) -> Result<Option<(Score, MeshResult, String)>, Error> {
     let mut best: Option<(Score, MeshResult, String)> = None;
-    let (kb_before, kb_after) = kb_stats;
     let finish = |outcome: Outcome| {
-        finish_mesh(outcome, &settings.element, opts, kb_before, kb_after).map(|mut r| {
+        finish_mesh(outcome, &settings.element, opts, kb_before, kb_before).map(|mut r| {
             number_without_gaps(&mut r.mesh.blocks);
             r
         })
@@ -35,7 +37,14 @@ pub(super) fn best_finished(
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
     let mut at_once = 1;
     loop {
-        let batch: Vec<_> = queue.by_ref().take(at_once).collect();
+        let mut batch = Vec::new();
+        while batch.len() < at_once {
+            match queue.next() {
+                Some(Ok(candidate)) => batch.push(candidate),
+                Some(Err(line)) => tried.push(line),
+                None => break,
+            }
+        }
         at_once = if cores > 1 { 2 } else { 1 };
         if batch.is_empty() {
             break;

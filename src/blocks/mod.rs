@@ -20,6 +20,7 @@ mod four_sided;
 mod free_blocks;
 mod in_order;
 pub mod intervals;
+mod layouts;
 mod mapping;
 mod retries;
 mod score;
@@ -27,20 +28,13 @@ mod score;
 use crate::input::curves::Curve;
 use crate::input::domain::Domain;
 use crate::kb::KnowledgeBase;
-use crate::pipeline::{discretise_for_run, prepare_run, Error, MeshResult, Options, Run};
+use crate::pipeline::{discretise_for_run, prepare_run, Error, MeshResult, Options};
 use crate::recursion::Outcome;
 use crate::report::trace::{By, TraceStep};
 use intervals::{Chords, FixedCount};
+use layouts::Layouts;
 pub use score::irregular_nodes;
 use score::{sharpest_input_corner, Score};
-
-/// The layout's element size is tried at `bound(block_size, K)`, then at
-/// three quarters and half of it (never under 1.5 element sizes); their
-/// block meshes are finished in order of their irregular nodes, and the
-/// first within the bounds is kept. Where none is, the domain is meshed
-/// free too, and the mesh with the fewest elements out of bounds kept
-/// (fewer irregular nodes deciding between equals).
-const LAYOUT_STEPS: [f64; 3] = [1.0, 0.75, 0.5];
 
 /// Meshes `domain` in blocks (see the module's comment).
 pub fn mesh_in_blocks(
@@ -353,12 +347,13 @@ fn has_fixed_counts(domain: &Domain) -> bool {
         .any(|c| c.edges.iter().any(|e| e.segments.is_some()))
 }
 
-/// The layouts first (coarse: cheap), then their block meshes finished in
-/// order of their irregular nodes until one is within the bounds: the
-/// best of them (fewest elements outside the bounds, then fewest
-/// irregular nodes) with its action in the trace's first step, or none;
-/// what each gave is added to `tried`. A layout with more than
-/// `max_free_share` of its blocks free is dropped.
+/// The block meshes finished in order until one is within the bounds:
+/// the four-sided patches, then the layouts from the coarsest, each made
+/// only when the meshes before it fell short (layouts.rs). The best of
+/// them (fewest elements outside the bounds, then fewest irregular
+/// nodes) with its action in the trace's first step, or none; what each
+/// gave is added to `tried`. A layout with more than `max_free_share` of
+/// its blocks free is dropped.
 fn best_block_mesh(
     domain: &Domain,
     kb: &mut KnowledgeBase,
@@ -368,96 +363,67 @@ fn best_block_mesh(
     max_free_share: f64,
     tried: &mut Vec<String>,
 ) -> Result<Option<(Score, MeshResult, String)>, Error> {
-    let size = opts.size.unwrap_or(domain.size());
-    // the layouts first (coarse: cheap), then the block meshes finished
-    // in order of their irregular nodes until one is within the bounds
-    // each candidate: its irregular nodes, its action in the trace's first
-    // step, the words its line in that step starts with, and its place
-    // among equals (the four-sided patches, then the coarser layout first)
-    let mut candidates: Vec<(usize, String, String, f64, Outcome)> = Vec::new();
     if has_cracks(domain) {
         tried.push("a domain with cracks is meshed free".into());
-    } else {
-        let max_pairs = settings.host.four_sided_pairs as usize;
-        if max_pairs > 0 {
-            match four_sided::outcome(domain, size, max_pairs, &settings.element) {
-                None => {}
-                Some(Err(why)) => tried.push(why),
-                Some(Ok((o, pairs))) => candidates.push((
-                    irregular_nodes(&o.mesh),
+        return Ok(None);
+    }
+    let size = opts.size.unwrap_or(domain.size());
+    let max_pairs = settings.host.four_sided_pairs as usize;
+    let four_sided = (max_pairs > 0)
+        .then(|| four_sided::outcome(domain, size, max_pairs, &settings.element))
+        .flatten()
+        .map(|made| {
+            made.map(|(o, pairs)| {
+                (
                     format!("four_sided({pairs})"),
                     format!("four sides in patches round {pairs} pairs of irregular nodes"),
-                    f64::INFINITY,
                     o,
-                )),
-            }
-        }
-        // the layouts' sizes; the finest (most elements) made by the
-        // second engine, when one is waiting, while this one makes the
-        // others; where twins of this knowledge base stand in for it (the
-        // answer store answered all so far), each but the coarsest on a
-        // thread of its own
-        let factors: Vec<f64> = LAYOUT_STEPS
-            .iter()
-            .map(|step| settings.host.block_size * step)
-            .enumerate()
-            .take_while(|&(k, factor)| k == 0 || factor >= 1.5)
-            .map(|(_, factor)| factor)
-            .collect();
-        let arc_step = settings.host.block_arc_step.to_radians();
-        // (the first factor is always taken: never empty)
-        let first_away = if kb.makes_twins() {
-            1
-        } else {
-            factors.len().saturating_sub(1).max(1)
-        };
-        let (here, elsewhere) = factors.split_at(first_away);
-        let away: Vec<_> = elsewhere
-            .iter()
-            .map(|&factor| {
-                let (d, o) = (domain.clone(), opts.clone());
-                let task = move |kb: &mut KnowledgeBase| {
-                    block_layout(&d, kb, &o, size, factor, arc_step, max_free_share)
-                };
-                (factor, kb.on_another_thread(task))
+                )
             })
+        });
+    let mut layouts = Layouts::new(domain, kb, opts, settings, (max_free_share, blocks_of));
+    let first = layouts.next();
+    let blocks = first
+        .as_ref()
+        .and_then(|c| c.as_ref().ok())
+        .map_or(0, |(_, _, o)| o.mesh.block_count());
+    let up_to = settings.host.finer_layouts_up_to;
+    let finish = |queue: &mut dyn Iterator<Item = layouts::Candidate>, tried: &mut Vec<String>| {
+        finishing::best_finished(queue, domain, settings, opts, kb_before, tried)
+    };
+    let best = if blocks as f64 > up_to {
+        // the finer layouts only where this one's mesh falls short
+        tried.push(format!(
+            "the first layout has {blocks} blocks, over bound(finer_layouts_up_to, {up_to}): the finer ones made only where its mesh falls short"
+        ));
+        finish(
+            &mut four_sided.into_iter().chain(first).chain(&mut layouts),
+            tried,
+        )
+    } else {
+        // every layout made, their block meshes in order of their
+        // irregular nodes (among equals the four-sided patches, then the
+        // coarser layout, first: the sort keeps their order; the lines of
+        // those that gave none first of all)
+        let mut made: Vec<layouts::Candidate> = four_sided
+            .into_iter()
+            .chain(first)
+            .chain(&mut layouts)
             .collect();
-        let mut made: Vec<Result<Outcome, String>> = here
-            .iter()
-            .map(|&factor| block_layout(domain, kb, opts, size, factor, arc_step, max_free_share))
-            .collect();
-        for (factor, rx) in away {
-            made.push(match rx.and_then(|rx| kb.take_from_second_engine(rx)) {
-                Some(r) => r,
-                None => block_layout(domain, kb, opts, size, factor, arc_step, max_free_share),
-            });
-        }
-        for (factor, outcome) in factors.into_iter().zip(made) {
-            match outcome {
-                Err(why) => tried.push(format!("blocks of {factor} element sizes: {why}")),
-                Ok(o) => candidates.push((
-                    irregular_nodes(&o.mesh),
-                    format!("layout({factor})"),
-                    format!("blocks of {factor} element sizes"),
-                    factor,
-                    o,
-                )),
-            }
-        }
-    }
-    candidates.sort_by(|a, b| a.0.cmp(&b.0).then(b.3.total_cmp(&a.3)));
-    let candidates = candidates
-        .into_iter()
-        .map(|(_, name, words, _, o)| (name, words, o));
-    let kb_after = kb.stats;
-    finishing::best_finished(
-        candidates,
-        domain,
-        settings,
-        opts,
-        (kb_before, kb_after),
-        tried,
-    )
+        made.sort_by_key(|c| {
+            c.as_ref()
+                .map_or((0, 0), |(_, _, o)| (1, irregular_nodes(&o.mesh)))
+        });
+        finish(&mut made.into_iter(), tried)
+    };
+    let kb = layouts.stop();
+    // the questions of every layout made, the kept one's finishing too
+    best.map(|best| {
+        best.map(|(score, mut r, name)| {
+            r.kb_stats = kb.stats.since(&kb_before);
+            (score, r, name)
+        })
+    })
 }
 
 /// A `--blocks` run's trace with its first step: the mesh kept,
@@ -492,116 +458,6 @@ fn renumber(trace: &mut [TraceStep]) {
     for (k, t) in trace.iter_mut().enumerate() {
         t.step = k + 1;
     }
-}
-
-/// The blocks of a layout of `factor` element sizes, each meshed as a
-/// mapping element (or the free blocks by the rules), or why there are
-/// none (among the reasons: more than `max_free_share` of them free).
-fn block_layout(
-    domain: &Domain,
-    kb: &mut KnowledgeBase,
-    opts: &Options,
-    size: f64,
-    factor: f64,
-    arc_step: f64,
-    max_free_share: f64,
-) -> Result<Outcome, String> {
-    let coarse = size * factor;
-    let layout_opts = Options {
-        size: Some(coarse),
-        max_size: Some(coarse),
-        polish: false,
-        ..opts.clone()
-    };
-    let layout_domain = layout_for(domain, coarse, arc_step);
-    let made = layout(&layout_domain, kb, &layout_opts)?;
-    blocks_of(made, domain, size, kb, opts.trace, max_free_share)
-}
-
-/// The layout: `domain` meshed by the rules at the coarse size of
-/// `opts`. A layout the rules cannot finish is of no use (its open loops
-/// would be closed by triangles), so the run stops as soon as the rules
-/// stop, or once it has taken `bound(layout_steps, 3)` times as many
-/// steps as elements are expected, and 30 more (the rules struggling:
-/// fallbacks taking elements back and splitting loops, long and to no
-/// use).
-fn layout(domain: &Domain, kb: &mut KnowledgeBase, opts: &Options) -> Result<MeshResult, String> {
-    let coarse = opts.size.unwrap_or(domain.size());
-    let words = |e: Error| format!("the layout could not be made: {e}");
-    let boundary = discretise_for_run(domain, opts.size).map_err(words)?;
-    let prepared = prepare_run(domain, boundary, kb, opts).map_err(words)?;
-    // (the expected count whole, then times the bound: the built-in 3
-    // gives 3 steps an element exactly)
-    let expected = (domain.area() / (coarse * coarse)).floor();
-    let budget = 30 + (prepared.settings().host.layout_steps * expected) as usize;
-    let mut run = Run::start(kb, prepared);
-    let mut steps = 0;
-    while run.step().map_err(words)? {
-        steps += 1;
-        if steps > budget {
-            return Err(format!(
-                "the rules took over {budget} steps at size {coarse}"
-            ));
-        }
-    }
-    let stopped = format!("the rules stopped at size {coarse}");
-    if run.stopped().is_some() {
-        return Err(stopped);
-    }
-    // the finished mesh may still fail its check and go to the fallbacks
-    let r = run.finish().map_err(words)?;
-    if r.stats.triangle_fallbacks > 0 || r.stats.open_loops_closed > 0 {
-        return Err(stopped);
-    }
-    Ok(r)
-}
-
-/// The domain the layout is made of: the same boundary at the coarse
-/// size, uniform, each fixed count cut down to what the coarse size
-/// gives (a block edge takes at least one element of the count).
-fn layout_for(domain: &Domain, coarse: f64, arc_step: f64) -> Domain {
-    let mut d = domain.clone();
-    d.size = coarse;
-    d.max_size = None;
-    let originals: Vec<&crate::input::curves::Chain> = domain.chains().collect();
-    let chains = std::iter::once(&mut d.outer)
-        .chain(d.holes.iter_mut())
-        .chain(d.lines.iter_mut());
-    for (chain, original) in chains.zip(originals) {
-        for e in &mut chain.edges {
-            let natural = ((e.curve.length() / coarse).round() as usize)
-                .max(crate::input::curves::min_arc_segments(&e.curve))
-                .max(1);
-            e.segments = match e.segments {
-                Some(n) => Some(n.min(natural)),
-                // an arc in short enough steps that a block's corner
-                // measured along the arc is within a few degrees of the
-                // layout's, measured along its chord (an even count
-                // leaves the loop's parity to its straight edges)
-                None if !matches!(e.curve, Curve::Line { .. }) => {
-                    let steps = (e.curve.sweep() / arc_step).ceil() as usize;
-                    Some(natural.max(steps).next_multiple_of(2))
-                }
-                None => None,
-            };
-        }
-        // counts cut down can leave a loop whose every count is fixed
-        // odd: one more on the edge the cut took most from
-        let fixed: Option<Vec<usize>> = chain.edges.iter().map(|e| e.segments).collect();
-        if fixed.is_some_and(|n| n.iter().sum::<usize>() % 2 == 1) {
-            let cut = |i: usize| {
-                original.edges[i].segments.unwrap_or(0) as i64
-                    - chain.edges[i].segments.unwrap_or(0) as i64
-            };
-            if let Some(i) = (0..chain.edges.len())
-                .filter(|&i| cut(i) > 0)
-                .max_by_key(|&i| (cut(i), std::cmp::Reverse(i)))
-            {
-                chain.edges[i].segments = chain.edges[i].segments.map(|n| n + 1);
-            }
-        }
-    }
-    d
 }
 
 /// The fine mesh of a layout, with its trace: the layout's steps, then a

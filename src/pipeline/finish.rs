@@ -107,13 +107,11 @@ pub(crate) fn finish_mesh(
     // slid along an arc, here or polished, changes the area enclosed: a
     // difference of exactly 0 where none moved)
     let enclosed = mesh.loops_area();
-    let slid = smoothing::ease_bad_corners(&mut mesh, bounds).1;
-    stats.boundary_slides += slid;
-    stats.polished = if opts.polish {
-        smoothing::polish_past_bounds(&mut mesh, bounds)
-    } else {
-        0
-    };
+    stats.boundary_slides += smoothing::ease_bad_corners(&mut mesh, bounds).1;
+    // (not a layout's: its blocks are polished once mapped)
+    if !opts.layout {
+        stats.polished = smoothing::polish_past_bounds(&mut mesh, bounds);
+    }
     let area = area + (mesh.loops_area() - enclosed);
     if any_collapse {
         compact_with_trace(&mut mesh, &mut trace, &mut vetoes);
