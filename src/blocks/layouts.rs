@@ -1,8 +1,10 @@
 //! The layouts a domain's blocks are made of (the rules' meshes of it
-//! at a coarse size), given in order from the coarsest, each made only
-//! when the block meshes before it fell short: most domains are within
-//! the bounds on their first layout, and a finer layout costs more than
-//! all the rest of the run. The finest layout is made on another thread
+//! at a coarse size), given in order from the coarsest, each made as it
+//! is asked for: blocks/mod.rs asks for all of them where the first is
+//! small, to keep the fewest irregular nodes, and for the next only where
+//! the block meshes before it fell short where the first has many blocks
+//! (`bound(finer_layouts_up_to, K)`): a finer layout costs more there
+//! than all the rest of the run. The finest is made on another thread
 //! meanwhile where one is to be had (the coarser ones here, in turn), and
 //! stopped, unused, where it is not needed; the meshes, and the one kept,
 //! are those of one layout at a time.
@@ -179,6 +181,9 @@ fn block_layout(
     };
     let layout_domain = layout_for(domain, coarse, arc_step);
     let made = layout(&layout_domain, kb, &layout_opts, stop)?;
+    if stop.load(Ordering::Relaxed) {
+        return Err(STOPPED.into());
+    }
     blocks_of(made, domain, size, kb, opts.trace, max_free_share)
 }
 
