@@ -558,9 +558,13 @@ impl HostBounds {
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
             if !(x >= lo && x < hi) {
-                return Err(format!(
-                    "bound({name}, {x}) must be at least {lo} and below {hi}"
-                ));
+                // (no upper end where any finite number will do)
+                let below = if hi == f64::MAX {
+                    String::new()
+                } else {
+                    format!(" and below {hi}")
+                };
+                return Err(format!("bound({name}, {x}) must be at least {lo}{below}"));
             }
         }
         let c = valid_corner.to_radians().cos();
@@ -615,6 +619,27 @@ impl HostBounds {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A host bound out of its range is named with the range, its upper
+    /// end left out where any finite number will do.
+    #[test]
+    fn a_host_bound_out_of_range_is_named_with_its_range() {
+        let at = |name: &str, x: f64| {
+            let mut v = HostBounds::BUILT_IN;
+            let i = HostBounds::NAMES.iter().position(|n| *n == name).unwrap();
+            v[i] = x;
+            HostBounds::new(v).unwrap_err()
+        };
+        assert_eq!(
+            at("finer_layouts_up_to", -1.0),
+            "bound(finer_layouts_up_to, -1) must be at least 0"
+        );
+        assert_eq!(
+            at("four_sided_pairs", 3.0),
+            "bound(four_sided_pairs, 3) must be at least 0 and below 3"
+        );
+        assert!(HostBounds::new(HostBounds::BUILT_IN).is_ok());
+    }
 
     #[test]
     fn the_paper_window_has_cos_squared_one_half_on_both_sides() {
