@@ -55,15 +55,13 @@ pub(super) struct Layouts<'a> {
     /// The factors still to give, each with its layout on its way where
     /// another thread makes it.
     queue: VecDeque<(f64, Option<Away>)>,
-    /// Whether the finest was handed to another thread.
-    started_away: bool,
     stop: Arc<AtomicBool>,
 }
 
 impl<'a> Layouts<'a> {
-    /// The layouts of `domain` at `bound(block_size, K)` and its steps,
-    /// none made yet: each is made here as it is asked for, but the
-    /// finest, started on another thread as the first is asked for.
+    /// The layouts of `domain` at `bound(block_size, K)` and its steps:
+    /// each is made here as it is asked for, but the finest (the
+    /// costliest), started on another thread now where there are two.
     pub(super) fn new(
         domain: &'a Domain,
         kb: &'a mut KnowledgeBase,
@@ -82,7 +80,7 @@ impl<'a> Layouts<'a> {
             .take_while(|&(k, factor)| k == 0 || factor >= 1.5)
             .map(|(_, factor)| (factor, None))
             .collect();
-        Layouts {
+        let mut layouts = Layouts {
             domain,
             kb,
             opts,
@@ -91,13 +89,16 @@ impl<'a> Layouts<'a> {
             max_free_share,
             blocks_of,
             queue,
-            started_away: false,
             stop,
+        };
+        if layouts.queue.len() > 1 {
+            layouts.start_away();
         }
+        layouts
     }
 
-    /// Hands the finest layout not given yet to another thread, where one
-    /// is to be had (the second engine, or a twin of this knowledge base).
+    /// Hands the finest layout to another thread, where one is to be had
+    /// (the second engine, or a twin of this knowledge base).
     fn start_away(&mut self) {
         let Some(last) = self.queue.back_mut() else {
             return;
@@ -131,11 +132,6 @@ impl Iterator for Layouts<'_> {
 
     fn next(&mut self) -> Option<Candidate> {
         let (factor, away) = self.queue.pop_front()?;
-        // the finest (the costliest) on its way meanwhile, from the first
-        if !self.started_away {
-            self.started_away = true;
-            self.start_away();
-        }
         let made = away
             .and_then(|rx| self.kb.take_from_second_engine(rx))
             .unwrap_or_else(|| {

@@ -348,8 +348,10 @@ fn has_fixed_counts(domain: &Domain) -> bool {
 }
 
 /// The block meshes finished in order until one is within the bounds:
-/// the four-sided patches, then the layouts from the coarsest, each made
-/// only when the meshes before it fell short (layouts.rs). The best of
+/// the four-sided patches and the layouts (layouts.rs), all three in
+/// order of their irregular nodes, or, where the first layout has more
+/// than `bound(finer_layouts_up_to, K)` blocks, from the coarsest, each
+/// made only when the meshes before it fell short. The best of
 /// them (fewest elements outside the bounds, then fewest irregular
 /// nodes) with its action in the trace's first step, or none; what each
 /// gave is added to `tried`. A layout with more than `max_free_share` of
@@ -410,7 +412,8 @@ fn best_block_mesh(
             .chain(first)
             .chain(&mut layouts)
             .collect();
-        made.sort_by_key(|c| {
+        // (each counted once)
+        made.sort_by_cached_key(|c| {
             c.as_ref()
                 .map_or((0, 0), |(_, _, o)| (1, irregular_nodes(&o.mesh)))
         });
