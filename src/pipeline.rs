@@ -446,6 +446,9 @@ pub struct Run<'k> {
     /// Why the recursion stopped short, if it did: the last resort meshes
     /// the domain when the run is finished.
     stopped: Option<String>,
+    /// A block layout's run whose finish judges the blocks by their
+    /// corners and taper alone (`finish_by_corners_and_taper`).
+    corners_and_taper: bool,
 }
 
 /// Everything of a run's start that can fail, done with the KB only
@@ -578,6 +581,7 @@ impl<'k> Run<'k> {
             t0: p.t0,
             prepare,
             stopped: None,
+            corners_and_taper: false,
         }
     }
 
@@ -626,6 +630,24 @@ impl<'k> Run<'k> {
         Ok(())
     }
 
+    /// Has a block layout's finish judge its blocks by their corners and
+    /// taper alone (`ElementBounds::for_layout`; blocks/layouts.rs says
+    /// which layouts).
+    pub(crate) fn finish_by_corners_and_taper(&mut self) {
+        self.corners_and_taper = self.opts.layout;
+    }
+
+    /// The bounds its finish aims for: the elements' own, or a layout's
+    /// blocks' (`finish_by_corners_and_taper`).
+    fn finish_bounds(&self) -> ElementBounds {
+        let element = self.mesher.settings().element;
+        if self.corners_and_taper {
+            element.for_layout()
+        } else {
+            element
+        }
+    }
+
     /// Finishes a run whose recursion is done: drops the nodes no element
     /// kept (the trace's ids follow), smooths, cleans up, checks and
     /// measures the mesh. Where the recursion stopped short, or made a
@@ -654,7 +676,7 @@ impl<'k> Run<'k> {
                 Error::Check(MeshCheckError::BoundaryNotFollowed(a, b)).to_string()
             }
             (None, None) => {
-                let bounds = self.mesher.settings().element;
+                let bounds = self.finish_bounds();
                 let outcome = self.mesher.take_outcome();
                 let kb_after = self.mesher.kb().stats;
                 match finish_mesh(outcome, &bounds, &self.opts, self.kb_before, kb_after) {

@@ -173,6 +173,23 @@ impl ElementBounds {
         })
     }
 
+    /// These bounds for the finish of a block layout of more than
+    /// `bound(layout_sizes_free_over, K)` elements: its blocks judged by their corners
+    /// and taper alone. Each block is divided to the element size, so its
+    /// aspect ratio and its size against its neighbours are not its
+    /// elements' (a long block gets more elements along it); its corners
+    /// are theirs, and a tapered block's elements are as tapered.
+    pub fn for_layout(self) -> ElementBounds {
+        // (a bound no block comes near; finite, so that sums and squares
+        // of it stay numbers)
+        const NONE: f64 = 1e9;
+        ElementBounds {
+            max_aspect: NONE,
+            max_size_jump: NONE,
+            ..self
+        }
+    }
+
     /// These bounds with `bound(polish_rings, rings)`, or a sentence
     /// saying it is out of range (a whole number from 0 to 4).
     pub fn with_polish_rings(self, rings: f64) -> Result<ElementBounds, String> {
@@ -443,6 +460,11 @@ pub struct HostBounds {
     /// `finer_layouts_up_to`: the finer block layouts are made only where
     /// the coarsest has at most this many blocks (see blocks/layouts.rs).
     pub finer_layouts_up_to: f64,
+    /// `layout_sizes_free_over`: the finish (smoothing, clean-up, easing)
+    /// of a block layout whose rules made more elements than this judges
+    /// its blocks by their corners and taper alone, each block being
+    /// divided to the element size (see `ElementBounds::for_layout`).
+    pub layout_sizes_free_over: f64,
 }
 
 impl Default for HostBounds {
@@ -454,14 +476,14 @@ impl Default for HostBounds {
 
 impl HostBounds {
     /// The built-in values (kb/strategy.pl), in the order of `NAMES`.
-    pub const BUILT_IN: [f64; 42] = [
+    pub const BUILT_IN: [f64; 43] = [
         4.0, 0.25, 0.15, 12.0, 90.0, 120.0, 1.0, 30.0, 45.0, 0.25, 1.5, 10.0, 2.0, 0.6, 4.0, 45.0,
         2.0, 12.0, 10.0, 1.6, 1.2, 0.0, 2.0, 0.5, 8.1, 1.0, 5.0, 1.5, 1.2, 1.0, 1.25, 1.0, 0.0,
-        0.5, 3.0, 0.2, 15.0, 0.0, 0.0, 1.0, 0.25, 400.0,
+        0.5, 3.0, 0.2, 15.0, 0.0, 0.0, 1.0, 0.25, 400.0, 400.0,
     ];
 
     /// The names of the `bound/2` entries, in the order `new` takes them.
-    pub const NAMES: [&'static str; 42] = [
+    pub const NAMES: [&'static str; 43] = [
         "valid_corner",
         "valid_edge",
         "valid_clearance",
@@ -504,13 +526,14 @@ impl HostBounds {
         "line_gap",
         "line_gap_floor",
         "finer_layouts_up_to",
+        "layout_sizes_free_over",
     ];
 
     /// The bounds in the order of `NAMES`, or a sentence saying which is
     /// out of range (angles within [0, 90) or [0, 180], shares and reach
     /// not negative).
-    pub fn new(v: [f64; 42]) -> Result<HostBounds, String> {
-        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps, arc_corner_chord, arc_corner_from, graded_collapse_below, weighted_laplace, line_gap, line_gap_floor, finer_layouts_up_to] =
+    pub fn new(v: [f64; 43]) -> Result<HostBounds, String> {
+        let [valid_corner, valid_edge, valid_clearance, min_front_angle, relation_corner, relation_inner_above, relation_reach, centre_search_below, tip_corner, fallback_take_back, fallback_spacing, ring_corner_give, thin_wall, size_growth, block_size, block_arc_step, fallback_reopen_rings, closing_loop_segments, closing_strict_margin, closing_strict_size, coarsest_edge, uniform_size_band, four_sided_pairs, blocks_when_out_of_bounds, retry_sharpest_corner, blocks_first, out_of_bounds_step, coarse_boundary_grading, coarser_when_over, fallback_pairs, blocks_over_free, uniform_when_graded_short, coarser_after_four_sided, corner_slack, layout_steps, arc_corner_chord, arc_corner_from, graded_collapse_below, weighted_laplace, line_gap, line_gap_floor, finer_layouts_up_to, layout_sizes_free_over] =
             v;
         let ranges = [
             (0.0, 90.0),
@@ -554,6 +577,7 @@ impl HostBounds {
             (0.0, 2.0),
             (0.0, f64::MAX),
             (0.05, 2.0),
+            (0.0, f64::MAX),
             (0.0, f64::MAX),
         ];
         for ((name, x), (lo, hi)) in Self::NAMES.iter().zip(v).zip(ranges) {
@@ -612,6 +636,7 @@ impl HostBounds {
             line_gap,
             line_gap_floor,
             finer_layouts_up_to,
+            layout_sizes_free_over,
         })
     }
 }

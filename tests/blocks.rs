@@ -745,3 +745,66 @@ fn the_finer_layouts_are_made_only_up_to_a_number_of_blocks() {
     assert!(!told.contains("blocks of 2 element sizes"), "{told}");
     within_the_bounds_below(&first, "l-bracket-lines", 45.0);
 }
+
+/// A first layout over `bound(finer_layouts_up_to, K)` stops the finest,
+/// made meanwhile by the second engine, as soon as its rules are done
+/// (spike-notch's first has 169 elements, its finest four times as
+/// many); where its block mesh then falls short, the finer layouts are
+/// made after all, in order: spike-notch's at 4 and 3 element sizes have
+/// elements out of the bounds, and the one at 2 is kept, as when every
+/// layout is made.
+#[test]
+fn a_finest_layout_stopped_early_is_made_when_the_first_falls_short() {
+    let d = load("../shared/bench/hard/spike-notch.json");
+    let lines = |r: &MeshResult| r.trace[0].redesign.join("\n");
+    let all = uniform_run(&d, &[]);
+    let mut kb = KnowledgeBase::builtin().unwrap();
+    kb.consult_file("tests/kb/finer-layouts-0.pl").unwrap();
+    kb.start_second_engine();
+    assert!(kb.wait_for_second_engine(std::time::Duration::from_secs(120)));
+    let opts = Options::default().with_trace(true);
+    let in_order = mesh_free_then_blocks(&d, None, &mut kb, &opts, &mut |_| {}).unwrap();
+    assert!(
+        kb.stats().second_engine_queries > 0,
+        "the second engine took part"
+    );
+    let told = lines(&in_order);
+    assert!(
+        told.contains("over bound(finer_layouts_up_to, 0)"),
+        "{told}"
+    );
+    let at = |size: &str| told.find(&format!("blocks of {size} element sizes"));
+    let (four, three, two) = (at("4"), at("3"), at("2"));
+    assert!(
+        four.is_some() && four < three && three < two,
+        "each layout, in order: {told}"
+    );
+    assert_eq!(in_order.trace[0].action, "layout(2)", "{told}");
+    assert_eq!(all.trace[0].action, "layout(2)", "{}", lines(&all));
+    assert_eq!(in_order.mesh.quads(), all.mesh.quads());
+}
+
+/// Where the first layout's rules made more elements than
+/// `bound(layout_sizes_free_over, 400)`, every layout is finished by its
+/// blocks' corners and taper alone (their aspect and sizes are not their
+/// elements'), and the trace says so on the lines of the layouts it
+/// tells of: at 0 (`tests/kb/layout-sizes-free-0.pl`) l-bracket-lines'
+/// are, the one kept (at 2 element sizes) within the bounds; built in
+/// (56 blocks), none is.
+#[test]
+fn a_large_layout_is_finished_by_its_blocks_corners_and_taper() {
+    let d = load("../shared/bench/domains/l-bracket-lines.json");
+    let said = |r: &MeshResult| {
+        r.trace[0]
+            .redesign
+            .iter()
+            .filter(|l| l.contains("finished by their corners and taper alone"))
+            .count()
+    };
+    let built_in = uniform_run(&d, &[]);
+    assert_eq!(said(&built_in), 0, "{:?}", built_in.trace[0].redesign);
+    let free = uniform_run(&d, &["tests/kb/layout-sizes-free-0.pl"]);
+    assert_eq!(free.trace[0].action, "layout(2)");
+    assert_eq!(said(&free), 1, "{:?}", free.trace[0].redesign);
+    within_the_bounds_below(&free, "l-bracket-lines", 45.0);
+}

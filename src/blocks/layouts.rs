@@ -6,8 +6,17 @@
 //! (`bound(finer_layouts_up_to, K)`): a finer layout costs more there
 //! than all the rest of the run. The finest is made on another thread
 //! meanwhile where one is to be had (the coarser ones here, in turn), and
-//! stopped, unused, where it is not needed; the meshes, and the one kept,
-//! are those of one layout at a time.
+//! stopped, unused, where it is not needed: as soon as the first
+//! layout's rules have made more elements than that bound (the other
+//! thread's work would slow this one's, and is made here again if it is
+//! needed after all), or once a mesh is kept. The meshes, and the one
+//! kept, are those of one layout at a time.
+//!
+//! Where the first layout's rules made more elements than
+//! `bound(layout_sizes_free_over, K)`, every layout of the domain is
+//! finished by its blocks' corners and taper alone
+//! (`ElementBounds::for_layout`): on many blocks that finish costs most
+//! of the run, spent on sizes the blocks' division makes no matter.
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -28,8 +37,25 @@ const LAYOUT_STEPS: [f64; 3] = [1.0, 0.75, 0.5];
 /// Why a layout stopped before it was made: no longer needed.
 const STOPPED: &str = "not needed";
 
+/// How a layout's finish is told: the first decides by its rules'
+/// elements (over `halt`'s K: the flag set; over `free_over`: by its
+/// blocks' corners and taper), the others are told by it.
+#[derive(Clone, Copy)]
+enum Finish<'a> {
+    First {
+        halt: &'a AtomicBool,
+        up_to: f64,
+        free_over: f64,
+    },
+    CornersAndTaper(bool),
+}
+
 /// A layout made on another thread: its block mesh, or why none.
-type Away = Receiver<Option<(Result<Outcome, String>, KbStats)>>;
+type Away = Receiver<Option<(Result<Made, String>, KbStats)>>;
+
+/// A layout's block mesh, and whether the layout was finished by its
+/// blocks' corners and taper alone.
+type Made = (Outcome, bool);
 
 /// A block mesh of the layouts, or the line the trace's first step says
 /// of a layout that gave none.
@@ -55,7 +81,17 @@ pub(super) struct Layouts<'a> {
     /// The factors still to give, each with its layout on its way where
     /// another thread makes it.
     queue: VecDeque<(f64, Option<Away>)>,
+    /// Set once no layout is needed.
     stop: Arc<AtomicBool>,
+    /// Set once the one made on another thread is not needed there.
+    stop_away: Arc<AtomicBool>,
+    /// `bound(finer_layouts_up_to, K)`, `bound(layout_sizes_free_over,
+    /// K)`, whether a layout was given, and whether the first told the
+    /// others to be finished by their corners and taper.
+    up_to: f64,
+    free_over: f64,
+    given: bool,
+    corners_and_taper: bool,
 }
 
 impl<'a> Layouts<'a> {
@@ -71,7 +107,7 @@ impl<'a> Layouts<'a> {
     ) -> Layouts<'a> {
         let size = opts.size.unwrap_or(domain.size());
         let arc_step = settings.host.block_arc_step.to_radians();
-        let stop = Arc::new(AtomicBool::new(false));
+        let (stop, stop_away) = (Arc::default(), Arc::default());
         // (the first factor is always taken: never empty)
         let queue: VecDeque<(f64, Option<Away>)> = LAYOUT_STEPS
             .iter()
@@ -90,6 +126,11 @@ impl<'a> Layouts<'a> {
             blocks_of,
             queue,
             stop,
+            stop_away,
+            up_to: settings.host.finer_layouts_up_to,
+            free_over: settings.host.layout_sizes_free_over,
+            given: false,
+            corners_and_taper: false,
         };
         if layouts.queue.len() > 1 {
             layouts.start_away();
@@ -104,11 +145,23 @@ impl<'a> Layouts<'a> {
             return;
         };
         let factor = last.0;
-        let (d, o, halt) = (self.domain.clone(), self.opts.clone(), self.stop.clone());
+        let (d, o, halt) = (
+            self.domain.clone(),
+            self.opts.clone(),
+            self.stop_away.clone(),
+        );
         let (size, arc_step) = (self.size, self.arc_step);
         let blocks = (self.max_free_share, self.blocks_of);
         let task = move |kb: &mut KnowledgeBase| {
-            block_layout(&d, kb, &o, (size, factor, arc_step), blocks, &halt)
+            let finish = Finish::CornersAndTaper(false);
+            block_layout(
+                &d,
+                kb,
+                &o,
+                (size, factor, arc_step),
+                blocks,
+                (&halt, finish),
+            )
         };
         last.1 = self.kb.on_another_thread(task);
     }
@@ -118,6 +171,7 @@ impl<'a> Layouts<'a> {
     /// their questions.
     pub(super) fn stop(mut self) -> &'a mut KnowledgeBase {
         self.stop.store(true, Ordering::Relaxed);
+        self.stop_away.store(true, Ordering::Relaxed);
         for (_, away) in std::mem::take(&mut self.queue) {
             if let Some(rx) = away {
                 let _ = self.kb.take_from_second_engine(rx);
@@ -132,8 +186,21 @@ impl Iterator for Layouts<'_> {
 
     fn next(&mut self) -> Option<Candidate> {
         let (factor, away) = self.queue.pop_front()?;
+        // the first one stops the other thread's once it proves large,
+        // and tells how the others are finished
+        let finish = match std::mem::replace(&mut self.given, true) {
+            false => Finish::First {
+                halt: &self.stop_away,
+                up_to: self.up_to,
+                free_over: self.free_over,
+            },
+            true => Finish::CornersAndTaper(self.corners_and_taper),
+        };
         let made = away
             .and_then(|rx| self.kb.take_from_second_engine(rx))
+            // (stopped there, or finished otherwise than the first
+            // tells: made here)
+            .filter(|made| !self.corners_and_taper && !matches!(made, Err(why) if why == STOPPED))
             .unwrap_or_else(|| {
                 block_layout(
                     self.domain,
@@ -141,13 +208,22 @@ impl Iterator for Layouts<'_> {
                     self.opts,
                     (self.size, factor, self.arc_step),
                     (self.max_free_share, self.blocks_of),
-                    &self.stop,
+                    (&self.stop, finish),
                 )
             });
+        if let (Finish::First { .. }, Ok((_, told))) = (finish, &made) {
+            self.corners_and_taper = *told;
+        }
         Some(match made {
-            Ok(o) => Ok((
+            Ok((o, sizes_free)) => Ok((
                 format!("layout({factor})"),
-                format!("blocks of {factor} element sizes"),
+                match sizes_free {
+                    false => format!("blocks of {factor} element sizes"),
+                    true => format!(
+                        "blocks of {factor} element sizes, finished by their corners and taper alone (the first layout of over bound(layout_sizes_free_over, {}) elements)",
+                        self.free_over
+                    ),
+                },
                 o,
             )),
             Err(why) => Err(format!("blocks of {factor} element sizes: {why}")),
@@ -159,15 +235,15 @@ impl Iterator for Layouts<'_> {
 /// `arc_step`), each meshed as a mapping element (or the free blocks by
 /// the rules) by `blocks_of`, or why there are none (among the reasons:
 /// more than `max_free_share` of them free, or `stop` set while it was
-/// made).
+/// made); `finish` tells how it is finished.
 fn block_layout(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     opts: &Options,
     (size, factor, arc_step): (f64, f64, f64),
     (max_free_share, blocks_of): (f64, BlocksOf),
-    stop: &AtomicBool,
-) -> Result<Outcome, String> {
+    (stop, finish): (&AtomicBool, Finish),
+) -> Result<Made, String> {
     let coarse = size * factor;
     let layout_opts = Options {
         size: Some(coarse),
@@ -176,11 +252,11 @@ fn block_layout(
         ..opts.clone()
     };
     let layout_domain = layout_for(domain, coarse, arc_step);
-    let made = layout(&layout_domain, kb, &layout_opts, stop)?;
+    let (made, sizes_free) = layout(&layout_domain, kb, &layout_opts, (stop, finish))?;
     if stop.load(Ordering::Relaxed) {
         return Err(STOPPED.into());
     }
-    blocks_of(made, domain, size, kb, opts.trace, max_free_share)
+    blocks_of(made, domain, size, kb, opts.trace, max_free_share).map(|o| (o, sizes_free))
 }
 
 /// The layout: `domain` meshed by the rules at the coarse size of
@@ -189,13 +265,14 @@ fn block_layout(
 /// stop, or once it has taken `bound(layout_steps, 3)` times as many
 /// steps as elements are expected, and 30 more (the rules struggling:
 /// fallbacks taking elements back and splitting loops, long and to no
-/// use), or `stop` is set (a layout no longer needed).
+/// use), or `stop` is set (a layout no longer needed). With it, whether
+/// it was finished by its blocks' corners and taper alone (`finish`).
 fn layout(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     opts: &Options,
-    stop: &AtomicBool,
-) -> Result<MeshResult, String> {
+    (stop, finish): (&AtomicBool, Finish),
+) -> Result<(MeshResult, bool), String> {
     let coarse = opts.size.unwrap_or(domain.size());
     let words = |e: Error| format!("the layout could not be made: {e}");
     let boundary = discretise_for_run(domain, opts.size).map_err(words)?;
@@ -221,12 +298,29 @@ fn layout(
     if run.stopped().is_some() {
         return Err(stopped);
     }
+    let elements = run.mesher_ref().mesh().quads.len() as f64;
+    let corners_and_taper = match finish {
+        Finish::First {
+            halt,
+            up_to,
+            free_over,
+        } => {
+            if elements > up_to {
+                halt.store(true, Ordering::Relaxed);
+            }
+            elements > free_over
+        }
+        Finish::CornersAndTaper(told) => told,
+    };
+    if corners_and_taper {
+        run.finish_by_corners_and_taper();
+    }
     // the finished mesh may still fail its check and go to the fallbacks
     let r = run.finish().map_err(words)?;
     if r.stats.triangle_fallbacks > 0 || r.stats.open_loops_closed > 0 {
         return Err(stopped);
     }
-    Ok(r)
+    Ok((r, corners_and_taper))
 }
 
 /// The domain the layout is made of: the same boundary at the coarse

@@ -185,7 +185,7 @@ impl Run<'_> {
         stopped_short: &StoppedShort,
     ) -> Result<Option<MeshResult>, Error> {
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
-        let bounds = self.mesher.settings().element;
+        let bounds = self.finish_bounds();
         let kb_after = self.mesher.kb().stats;
         outcome.mesh = closed.mesh;
         // the halved boundary segments' nodes are on the curves: the
@@ -256,7 +256,7 @@ impl Run<'_> {
         let area = mesh.boundary_area(1 + self.domain.holes.len() as u32);
         // the rules' attempt and the fallback count as the recursion
         let recursion = self.t0.elapsed().as_secs_f64() - self.prepare;
-        let bounds = self.mesher.settings().element;
+        let bounds = self.finish_bounds();
         stats.triangle_elements = mesh.quads.len();
         // the rules' attempt is gone: its vetoes with it (still counted)
         let outcome = Outcome {
