@@ -18,6 +18,7 @@
 //! (`ElementBounds::for_layout`): on many blocks that finish costs most
 //! of the run, spent on sizes the blocks' division makes no matter.
 
+use std::cell::Cell;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
@@ -38,24 +39,22 @@ const LAYOUT_STEPS: [f64; 3] = [1.0, 0.75, 0.5];
 const STOPPED: &str = "not needed";
 
 /// How a layout's finish is told: the first decides by its rules'
-/// elements (over `halt`'s K: the flag set; over `free_over`: by its
-/// blocks' corners and taper), the others are told by it.
+/// elements (over `up_to`: `halt` set; over `free_over`: `told` set, and
+/// it is finished by its blocks' corners and taper), the others are told
+/// by it.
 #[derive(Clone, Copy)]
 enum Finish<'a> {
     First {
         halt: &'a AtomicBool,
         up_to: f64,
+        told: &'a Cell<bool>,
         free_over: f64,
     },
     CornersAndTaper(bool),
 }
 
 /// A layout made on another thread: its block mesh, or why none.
-type Away = Receiver<Option<(Result<Made, String>, KbStats)>>;
-
-/// A layout's block mesh, and whether the layout was finished by its
-/// blocks' corners and taper alone.
-type Made = (Outcome, bool);
+type Away = Receiver<Option<(Result<Outcome, String>, KbStats)>>;
 
 /// A block mesh of the layouts, or the line the trace's first step says
 /// of a layout that gave none.
@@ -87,11 +86,11 @@ pub(super) struct Layouts<'a> {
     stop_away: Arc<AtomicBool>,
     /// `bound(finer_layouts_up_to, K)`, `bound(layout_sizes_free_over,
     /// K)`, whether a layout was given, and whether the first told the
-    /// others to be finished by their corners and taper.
+    /// layouts to be finished by their corners and taper.
     up_to: f64,
     free_over: f64,
     given: bool,
-    corners_and_taper: bool,
+    corners_and_taper: Cell<bool>,
 }
 
 impl<'a> Layouts<'a> {
@@ -130,7 +129,7 @@ impl<'a> Layouts<'a> {
             up_to: settings.host.finer_layouts_up_to,
             free_over: settings.host.layout_sizes_free_over,
             given: false,
-            corners_and_taper: false,
+            corners_and_taper: Cell::new(false),
         };
         if layouts.queue.len() > 1 {
             layouts.start_away();
@@ -192,15 +191,18 @@ impl Iterator for Layouts<'_> {
             false => Finish::First {
                 halt: &self.stop_away,
                 up_to: self.up_to,
+                told: &self.corners_and_taper,
                 free_over: self.free_over,
             },
-            true => Finish::CornersAndTaper(self.corners_and_taper),
+            true => Finish::CornersAndTaper(self.corners_and_taper.get()),
         };
         let made = away
             .and_then(|rx| self.kb.take_from_second_engine(rx))
             // (stopped there, or finished otherwise than the first
             // tells: made here)
-            .filter(|made| !self.corners_and_taper && !matches!(made, Err(why) if why == STOPPED))
+            .filter(|made| {
+                !self.corners_and_taper.get() && !matches!(made, Err(why) if why == STOPPED)
+            })
             .unwrap_or_else(|| {
                 block_layout(
                     self.domain,
@@ -211,13 +213,10 @@ impl Iterator for Layouts<'_> {
                     (&self.stop, finish),
                 )
             });
-        if let (Finish::First { .. }, Ok((_, told))) = (finish, &made) {
-            self.corners_and_taper = *told;
-        }
         Some(match made {
-            Ok((o, sizes_free)) => Ok((
+            Ok(o) => Ok((
                 format!("layout({factor})"),
-                match sizes_free {
+                match self.corners_and_taper.get() {
                     false => format!("blocks of {factor} element sizes"),
                     true => format!(
                         "blocks of {factor} element sizes, finished by their corners and taper alone (the first layout of over bound(layout_sizes_free_over, {}) elements)",
@@ -243,7 +242,7 @@ fn block_layout(
     (size, factor, arc_step): (f64, f64, f64),
     (max_free_share, blocks_of): (f64, BlocksOf),
     (stop, finish): (&AtomicBool, Finish),
-) -> Result<Made, String> {
+) -> Result<Outcome, String> {
     let coarse = size * factor;
     let layout_opts = Options {
         size: Some(coarse),
@@ -252,11 +251,11 @@ fn block_layout(
         ..opts.clone()
     };
     let layout_domain = layout_for(domain, coarse, arc_step);
-    let (made, sizes_free) = layout(&layout_domain, kb, &layout_opts, (stop, finish))?;
+    let made = layout(&layout_domain, kb, &layout_opts, (stop, finish))?;
     if stop.load(Ordering::Relaxed) {
         return Err(STOPPED.into());
     }
-    blocks_of(made, domain, size, kb, opts.trace, max_free_share).map(|o| (o, sizes_free))
+    blocks_of(made, domain, size, kb, opts.trace, max_free_share)
 }
 
 /// The layout: `domain` meshed by the rules at the coarse size of
@@ -265,14 +264,14 @@ fn block_layout(
 /// stop, or once it has taken `bound(layout_steps, 3)` times as many
 /// steps as elements are expected, and 30 more (the rules struggling:
 /// fallbacks taking elements back and splitting loops, long and to no
-/// use), or `stop` is set (a layout no longer needed). With it, whether
-/// it was finished by its blocks' corners and taper alone (`finish`).
+/// use), or `stop` is set (a layout no longer needed). `finish` tells
+/// whether it is finished by its blocks' corners and taper alone.
 fn layout(
     domain: &Domain,
     kb: &mut KnowledgeBase,
     opts: &Options,
     (stop, finish): (&AtomicBool, Finish),
-) -> Result<(MeshResult, bool), String> {
+) -> Result<MeshResult, String> {
     let coarse = opts.size.unwrap_or(domain.size());
     let words = |e: Error| format!("the layout could not be made: {e}");
     let boundary = discretise_for_run(domain, opts.size).map_err(words)?;
@@ -303,12 +302,14 @@ fn layout(
         Finish::First {
             halt,
             up_to,
+            told,
             free_over,
         } => {
             if elements > up_to {
                 halt.store(true, Ordering::Relaxed);
             }
-            elements > free_over
+            told.set(elements > free_over);
+            told.get()
         }
         Finish::CornersAndTaper(told) => told,
     };
@@ -320,7 +321,7 @@ fn layout(
     if r.stats.triangle_fallbacks > 0 || r.stats.open_loops_closed > 0 {
         return Err(stopped);
     }
-    Ok((r, corners_and_taper))
+    Ok(r)
 }
 
 /// The domain the layout is made of: the same boundary at the coarse
