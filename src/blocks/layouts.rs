@@ -165,6 +165,12 @@ impl<'a> Layouts<'a> {
         last.1 = self.kb.on_another_thread(task);
     }
 
+    /// Whether a layout is made on another thread (there is a spare
+    /// core for this run).
+    pub(super) fn made_away(&self) -> bool {
+        self.queue.iter().any(|(_, away)| away.is_some())
+    }
+
     /// Stops the layouts not given (none is needed now) and waits for
     /// those on their way to stop: the knowledge base's counts then hold
     /// their questions.

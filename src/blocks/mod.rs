@@ -390,34 +390,33 @@ fn best_block_mesh(
         .and_then(|c| c.as_ref().ok())
         .map_or(0, |(_, _, o)| o.mesh.block_count());
     let up_to = settings.host.finer_layouts_up_to;
-    let finish = |queue: &mut dyn Iterator<Item = layouts::Candidate>, tried: &mut Vec<String>| {
-        finishing::best_finished(queue, domain, settings, opts, kb_before, tried)
+    let by = finishing::Finishing {
+        domain,
+        settings,
+        opts,
+        kb_before,
     };
     let best = if blocks as f64 > up_to {
         // the finer layouts only where this one's mesh falls short
         tried.push(format!(
             "the first layout has {blocks} blocks, over bound(finer_layouts_up_to, {up_to}): the finer ones made only where its mesh falls short"
         ));
-        finish(
-            &mut four_sided.into_iter().chain(first).chain(&mut layouts),
+        by.best_finished(
+            four_sided.into_iter().chain(first).chain(&mut layouts),
             tried,
         )
     } else {
         // every layout made, their block meshes in order of their
         // irregular nodes (among equals the four-sided patches, then the
-        // coarser layout, first: the sort keeps their order; the lines of
-        // those that gave none first of all)
-        let mut made: Vec<layouts::Candidate> = four_sided
-            .into_iter()
-            .chain(first)
-            .chain(&mut layouts)
-            .collect();
-        // (each counted once)
-        made.sort_by_cached_key(|c| {
-            c.as_ref()
-                .map_or((0, 0), |(_, _, o)| (1, irregular_nodes(&o.mesh)))
-        });
-        finish(&mut made.into_iter(), tried)
+        // coarser layout, first; the lines of those that gave none first
+        // of all), each finished meanwhile on the spare core where the
+        // finest layout is made on it
+        let helper = layouts.made_away();
+        by.best_made_first(
+            four_sided.into_iter().chain(first).chain(&mut layouts),
+            helper,
+            tried,
+        )
     };
     let kb = layouts.stop();
     // the questions of every layout made, the kept one's finishing too
