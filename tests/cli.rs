@@ -482,6 +482,9 @@ fn bad_domains_are_refused_with_a_message_naming_the_fault() {
         ("{\"size\": 1, \"outer\": {\"points\": [[0,0],[10,0],[0,10],[10,10]]}}", "outer: the loop intersects itself at (5, 5)"),
         ("{\"size\": 0.1, \"outer\": {\"points\": [[0,0],[1.5,0],[0,1.5],[1.5,1.5]]}}", "outer: the loop intersects itself near (0.8, 0.8)"),
         ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"holes\": [{\"points\": [[1,1],[4,1],[4,4],[1,4]]}], \"lines\": [{\"points\": [[0.5,2.5],[2.5,2.5]]}]}", "holes[0] and lines[0] cross or touch at (1.0, 2.5)"),
+        // an arc that runs back across the edge before it: the two edges,
+        // and how far from the point they share
+        ("{\"size\": 0.5, \"outer\": {\"points\": [[0,0],[10,0],[10,10],[0,10]]}, \"lines\": [{\"points\": [[2,2],[6,2],[3,2.5]], \"bulges\": [0, -0.6]}]}", "lines[0]: the line crosses itself near (3.3, 2.0): edges 0 and 1 meet again 2.7 from point 1 at (6.0, 2.0), where they join"),
     ];
     for (i, (text, expect)) in cases.iter().enumerate() {
         let dom = tmp(&format!("bad{i}.json"));

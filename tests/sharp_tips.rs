@@ -128,7 +128,7 @@ fn an_arc_that_crosses_the_line_before_it_is_refused_where_it_crosses() {
     let e = Domain::from_json(&serde_json::from_str(&text).unwrap()).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "outer: the loop intersects itself near (-0.738989, -1.176069)"
+        "outer: the loop intersects itself near (-0.738989, -1.176069): edges 0 and 1 meet again 0.086870 from point 1 at (-0.801826, -1.236050), where they join"
     );
 }
 

@@ -662,10 +662,19 @@ impl Domain {
                 } else {
                     "the line crosses itself"
                 };
+                // where: the two edges, and how far from the point they
+                // share (a cusp drawn a little past its tip, most often)
+                let j = (i + 1) % n;
+                let shared = match *second {
+                    Curve::Line { a, .. } | Curve::Arc { a, .. } => a,
+                    Curve::Circle { center, .. } => center,
+                };
                 return Err(DomainError::Geometry(format!(
-                    "{}: {what} {}",
+                    "{}: {what} {}: edges {i} and {j} meet again {:.decimals$} from point {j} {}, where they join",
                     chain.label,
-                    point_text(p, decimals)
+                    point_text(p, decimals),
+                    (p - shared).length(),
+                    point_text(shared, decimals)
                 )));
             }
         }
