@@ -650,11 +650,7 @@ impl Domain {
                     continue;
                 };
                 // a loop of two edges: they meet again at its other vertex
-                let other_vertex = match *first {
-                    Curve::Line { a, .. } | Curve::Arc { a, .. } => a,
-                    Curve::Circle { center, .. } => center,
-                };
-                if closed && n == 2 && (p - other_vertex).length() <= tol {
+                if closed && n == 2 && (p - first.point_at(0.0)).length() <= tol {
                     continue;
                 }
                 let what = if closed {
@@ -664,11 +660,7 @@ impl Domain {
                 };
                 // where: the two edges, and how far from the point they
                 // share (a cusp drawn a little past its tip, most often)
-                let j = (i + 1) % n;
-                let shared = match *second {
-                    Curve::Line { a, .. } | Curve::Arc { a, .. } => a,
-                    Curve::Circle { center, .. } => center,
-                };
+                let (j, shared) = ((i + 1) % n, second.point_at(0.0));
                 return Err(DomainError::Geometry(format!(
                     "{}: {what} {}: edges {i} and {j} meet again {:.decimals$} from point {j} {}, where they join",
                     chain.label,
