@@ -4,9 +4,10 @@
 //! first is finished alone, the others two at once where a core is
 //! spare (`best_finished`); where all are made first (`best_made_first`),
 //! a helper on the spare core finishes each as soon as it is made, and
-//! this thread joins in once all are: neither waits while there is one
-//! to finish. Each mesh is finished alone and judged in its turn, so the
-//! meshes, and the one kept, are those of one at a time.
+//! this thread joins in once all are. Both hand the meshes to one
+//! `Pool`: this thread takes them in their judging order, finishing those
+//! the helper has not started. Each mesh is finished alone and judged in
+//! its turn, so the meshes, and the one kept, are those of one at a time.
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::{Arc, Condvar, Mutex};
@@ -95,53 +96,60 @@ impl Finishing<'_> {
         mut queue: impl Iterator<Item = Candidate>,
         tried: &mut Vec<String>,
     ) -> Result<Option<(Score, MeshResult, String)>, Error> {
+        // the first alone (often within the bounds: no other is needed),
+        // the others two at once where a core is spare (the helper starts
+        // on one as soon as it is made)
+        let helper = std::thread::available_parallelism().is_ok_and(|c| c.get() > 1);
+        let pool = self.pool(helper);
+        let _closing = Closing(&pool);
         let finish = |outcome: Outcome| self.finish(outcome);
         let mut judging = Judging {
             best: None,
             tried,
             by: self,
         };
-        // the first alone (often within the bounds: no other is needed),
-        // the others two at once where a core is spare
-        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-        let mut at_once = 1;
+        let (mut made, mut at_once) = (0, 1);
         loop {
             let mut batch = Vec::new();
             while batch.len() < at_once {
                 match queue.next() {
-                    Some(Ok(candidate)) => batch.push(candidate),
+                    Some(Ok((name, words, o))) => {
+                        pool.offer(made, o);
+                        batch.push((made, name, words));
+                        made += 1;
+                    }
                     Some(Err(line)) => judging.tried.push(line),
                     None => break,
                 }
             }
-            at_once = if cores > 1 { 2 } else { 1 };
+            at_once = if helper { 2 } else { 1 };
             if batch.is_empty() {
                 break;
             }
-            let finished: Vec<(String, String, Result<MeshResult, Error>)> =
-                std::thread::scope(|scope| {
-                    let mut batch = batch.into_iter();
-                    let first = batch.next();
-                    let others: Vec<_> = batch
-                        .map(|(name, words, o)| scope.spawn(move || (name, words, finish(o))))
-                        .collect();
-                    first
-                        .map(|(name, words, o)| (name, words, finish(o)))
-                        .into_iter()
-                        .chain(
-                            others
-                                .into_iter()
-                                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
-                        )
-                        .collect()
-                });
-            for (name, words, r) in finished {
-                if judging.judge(name, &words, r)? {
+            for (i, name, words) in batch {
+                if judging.judge(name, &words, pool.take(i, &finish))? {
                     return Ok(judging.best);
                 }
             }
         }
         Ok(judging.best)
+    }
+
+    /// A pool for the block meshes, with a helper thread finishing them
+    /// where `helper` (not joined: a mesh it finishes that is not needed
+    /// is left to it once one is kept).
+    fn pool(&self, helper: bool) -> Arc<Pool<Outcome, Result<MeshResult, Error>>> {
+        let pool = Arc::new(Pool::default());
+        if helper {
+            let (pool, bounds, opts, kb_before) = (
+                pool.clone(),
+                self.settings.element,
+                self.opts.clone(),
+                self.kb_before,
+            );
+            std::thread::spawn(move || pool.help(&|o| finish(o, &bounds, &opts, kb_before)));
+        }
+        pool
     }
 
     /// As `best_finished`, but every candidate is made before any is judged,
@@ -155,18 +163,7 @@ impl Finishing<'_> {
         helper: bool,
         tried: &mut Vec<String>,
     ) -> Result<Option<(Score, MeshResult, String)>, Error> {
-        let pool: Arc<Pool<Outcome, Result<MeshResult, Error>>> = Arc::new(Pool::default());
-        if helper {
-            // (not waited for: a mesh it finishes that is not needed is left
-            // to it once one is kept)
-            let (pool, bounds, opts, kb_before) = (
-                pool.clone(),
-                self.settings.element,
-                self.opts.clone(),
-                self.kb_before,
-            );
-            std::thread::spawn(move || pool.help(&|o| finish(o, &bounds, &opts, kb_before)));
-        }
+        let pool = self.pool(helper);
         // (closed however this ends, so that the helper stops)
         let _closing = Closing(&pool);
         let mut order: Vec<((u8, usize), usize, Result<(String, String), String>)> = Vec::new();
